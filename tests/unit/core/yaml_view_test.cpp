@@ -1,0 +1,48 @@
+#include "retarget/core/yaml_view.hpp"
+
+#include <gtest/gtest.h>
+
+namespace rt {
+namespace {
+
+TEST(YamlView, ReportsUnknownKeyWithPathAndLine) {
+  const auto doc = YamlView::load_string("name: x\nfeet:\n  left:\n    lnk: foo\n", "robot.yaml");
+  try {
+    doc.at("feet").at("left").check_keys({"link", "sole"});
+    FAIL() << "expected an error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "robot.yaml:4: feet.left.lnk: unknown key (allowed: link, sole)");
+  }
+}
+
+TEST(YamlView, ReportsTypeErrors) {
+  const auto doc = YamlView::load_string("a: [1, 2, x]\nb: yes_no\n", "c.yaml");
+  EXPECT_THROW(doc.at("a").as_doubles(), InputError);
+  try {
+    doc.at("a").as_doubles();
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "c.yaml:1: a[2]: expected a number, got 'x'");
+  }
+  EXPECT_THROW(doc.at("b").as_bool(), InputError);
+  EXPECT_THROW(doc.at("missing"), InputError);
+  EXPECT_DOUBLE_EQ(doc.get("missing", 2.5), 2.5);
+}
+
+TEST(YamlView, SyntaxErrorHasLine) {
+  try {
+    YamlView::load_string("a: 1\nb: [1, 2\n", "bad.yaml");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.yaml:"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("YAML syntax error"), std::string::npos);
+  }
+}
+
+TEST(YamlView, RejectsNonFiniteNumbers) {
+  const auto doc = YamlView::load_string("a: .nan\nb: .inf\n", "n.yaml");
+  EXPECT_THROW(doc.at("a").as_double(), InputError);
+  EXPECT_THROW(doc.at("b").as_double(), InputError);
+}
+
+}  // namespace
+}  // namespace rt
