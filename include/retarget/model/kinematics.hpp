@@ -1,0 +1,54 @@
+#pragma once
+/// Thin kinematics/dynamics API over MuJoCo with the model/data split (style: pinocchio/mujoco
+/// free functions). Call `update_kinematics` (positions only) or `update_dynamics` (positions and
+/// velocities) first; the query functions read the cached results in `data`.
+///
+/// Jacobians are 6 x nv or 3 x nv, rows [linear; angular] in the world frame, for the generalised
+/// velocity v of robot_model.hpp (root linear velocity in W, root angular velocity in the root
+/// frame). `p_L` points are in the link frame.
+
+#include "retarget/core/types.hpp"
+#include "retarget/model/robot_data.hpp"
+
+namespace rt {
+
+/// Sets q (size nq) and runs forward kinematics + COM (mj_kinematics, mj_comPos).
+void update_kinematics(const RobotModel& model, RobotData& data, const VecXCRef& q);
+
+/// Sets q, v (nv) and computes everything the controller needs: kinematics, COM, mass matrix,
+/// bias forces (mj_forward without actuation).
+void update_dynamics(const RobotModel& model, RobotData& data, const VecXCRef& q, const VecXCRef& v);
+
+/// Pose of a link in the world.
+Iso3 link_pose(const RobotModel& model, const RobotData& data, int link);
+
+/// World position of a point fixed in a link.
+Vec3 link_point(const RobotModel& model, const RobotData& data, int link, const Vec3& p_L);
+
+/// 6 x nv Jacobian of a point fixed in a link: rows 0-2 linear velocity of the point, rows 3-5
+/// angular velocity of the link, both in W.
+MatX link_jacobian(const RobotModel& model, const RobotData& data, int link, const Vec3& p_L = Vec3::Zero());
+
+/// Whole-body centre of mass [m] in W.
+Vec3 com_position(const RobotModel& model, const RobotData& data);
+
+/// 3 x nv Jacobian of the whole-body COM.
+MatX com_jacobian(const RobotModel& model, const RobotData& data);
+
+/// nv x nv joint-space mass matrix M(q) (after update_dynamics).
+MatX mass_matrix(const RobotModel& model, const RobotData& data);
+
+/// nv bias forces c(q, v) = Coriolis + centrifugal + gravity (after update_dynamics).
+VecX bias_forces(const RobotModel& model, const RobotData& data);
+
+/// J̇·v of a link point (6: [linear; angular], W), exact (after update_dynamics): MuJoCo's
+/// acceleration with q̈ = 0 (dependencies.md §5 recipe).
+Vec6 link_jdot_v(const RobotModel& model, RobotData& data, int link, const Vec3& p_L = Vec3::Zero());
+
+/// Integrates q by v·dt on the configuration manifold (quaternion-aware).
+VecX integrate(const RobotModel& model, const VecXCRef& q, const VecXCRef& v, double dt);
+
+/// v such that integrate(q1, v, dt) = q2 (quaternion-aware finite difference).
+VecX difference(const RobotModel& model, const VecXCRef& q1, const VecXCRef& q2, double dt);
+
+}  // namespace rt

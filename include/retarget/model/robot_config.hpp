@@ -1,0 +1,115 @@
+#pragma once
+/// robot.yaml: how a URDF robot is retargeted to and simulated (design.md §4).
+///
+/// Schema (every key is checked; unknown keys are errors naming their path and line):
+///
+///   name: g1                                  # required
+///   urdf: package://unitree_g1/g1.urdf        # required: relative to this file, absolute, or package://
+///   package_paths: [../../../shared/data/robots]  # optional roots for package://<pkg>/ (relative to this file)
+///   feet:                                     # required: both sides
+///     left:  {link: left_ankle_roll_link, sole: derive}
+///     right: {link: right_ankle_roll_link, sole: {center: [0.035, 0, -0.035], size: [0.22, 0.08]}}
+///   landmarks:                                # human landmark -> robot link (landmarks.hpp names)
+///     pelvis:    {link: pelvis, weight: 1.0, orientation_weight: 1.0, offset: [0, 0, 0]}
+///     left_knee: {link: left_knee_link}
+///   export_joints: [left_hip_pitch_joint, ...]   # optional CSV column order (default: URDF order)
+///   standing_pose:                            # optional
+///     joints: {left_knee_joint: 0.3}          # [rad] (or m); unlisted joints are 0
+///     root_height: 0.79                       # [m] optional; default puts the soles on the floor
+///   controller:                               # optional (tracking controller, paper eq. 2)
+///     kp: 36                                  # [1/s^2]
+///     kd: 12                                  # [1/s]
+///     joint_gains: {left_knee_joint: {kp: 49, kd: 14}}
+///   simulation:                               # optional
+///     timestep: 0.001                         # [s]
+///     armature: 0.01                          # [kg m^2] reflected rotor inertia added to every joint
+///     joint_armature: {left_knee_joint: 0.05}
+///     damping: 0.0                            # [N m s/rad] added to the URDF damping
+///     friction: 1.0                           # sliding friction coefficient sole/floor
+///     hold_kp: 300                            # [N m/rad] PD gains of the simple standing hold
+///     hold_kd: 10                             # [N m s/rad]
+
+#include <array>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "retarget/core/types.hpp"
+#include "retarget/motion/landmarks.hpp"
+
+namespace rt {
+
+/// Sole rectangle of a foot link. The sole plane is the bottom face of the foot; contact is
+/// simulated with a thin box whose bottom face is this rectangle.
+struct SoleConfig {
+  bool derive = false;     ///< derive from the link's collision geometry (bounding box) instead
+  Vec3 p_L_center = Vec3::Zero();  ///< [m] centre of the sole's bottom face in the foot link frame
+  Vec2 size_m = Vec2::Zero();      ///< [m] length along link x, width along link y
+};
+
+struct FootConfig {
+  std::string link;
+  SoleConfig sole;
+};
+
+/// A human landmark tracked by a point (and optionally the orientation) of a robot link.
+struct LandmarkTarget {
+  Landmark landmark = Landmark::Pelvis;
+  std::string link;
+  Vec3 p_L_offset = Vec3::Zero();  ///< [m] tracked point in the link frame
+  double weight = 1.0;               ///< position weight (dimensionless, relative)
+  double orientation_weight = 0.0;   ///< orientation weight; > 0 only for landmarks with orientation
+};
+
+struct JointGains {
+  double kp = 0;  ///< [1/s^2]
+  double kd = 0;  ///< [1/s]
+};
+
+struct ControllerConfig {
+  double kp = 36.0;  ///< [1/s^2] default position gain of eq. (2)
+  double kd = 12.0;  ///< [1/s] default velocity gain of eq. (2)
+  std::map<std::string, JointGains> joint_gains;  ///< per-joint overrides
+};
+
+struct SimulationConfig {
+  double timestep_s = 0.001;
+  double armature = 0.01;  ///< [kg m^2]; explicit PD on light links is unstable without it
+  std::map<std::string, double> joint_armature;
+  double extra_damping = 0.0;  ///< [N m s/rad]
+  double friction = 1.0;
+  double hold_kp = 300.0;  ///< [N m/rad]
+  double hold_kd = 10.0;   ///< [N m s/rad]
+};
+
+struct RobotConfig {
+  std::string name;
+  std::string config_path;  ///< the robot.yaml that was read
+  std::string urdf_path;    ///< resolved absolute path of the URDF
+  std::vector<std::string> package_paths;  ///< resolved roots, in search order
+  std::array<FootConfig, 2> feet;          ///< [0] left, [1] right
+  std::vector<LandmarkTarget> landmarks;
+  std::vector<std::string> export_joints;  ///< empty: URDF order of movable joints
+  std::map<std::string, double> standing_joints;
+  std::optional<double> standing_root_height_m;
+  ControllerConfig controller;
+  SimulationConfig simulation;
+};
+
+/// Folders searched for robot names: $RETARGET_ROBOTS_PATH (colon-separated), then the project's
+/// robots/ folder.
+std::vector<std::string> robot_search_path();
+
+/// Loads a robot config. `robot` is a path to a robot.yaml, a folder holding one, or the name of
+/// a folder in robot_search_path(). `extra_package_paths` (from --package-path) are searched
+/// before the config's own package_paths, then $ROS_PACKAGE_PATH. Throws InputError with
+/// file:line and key path on any schema error, and when the URDF cannot be found.
+RobotConfig load_robot_config(const std::string& robot, const std::vector<std::string>& extra_package_paths = {});
+
+/// Resolves a URDF/mesh reference: "package://pkg/rel" or "package:///abs" against the package
+/// search path, relative paths against `base_dir`. Returns "" when not found.
+std::string resolve_resource(const std::string& uri, const std::string& base_dir,
+                             const std::vector<std::string>& package_paths);
+
+}  // namespace rt
