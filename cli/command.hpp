@@ -1,0 +1,20 @@
+#pragma once
+/// A subcommand: each lives in its own cli/cmd_<name>.cpp with a `setup_<name>(CLI::App&)` that
+/// registers its options and returns the function that runs it after parsing.
+
+#include <functional>
+
+namespace CLI {
+class App;
+}
+
+namespace rt::cli {
+
+struct Command {
+  CLI::App* app = nullptr;   ///< the subcommand's parser
+  std::function<int()> run;  ///< runs the command; returns the exit status
+};
+
+Command setup_inspect(CLI::App& parent);
+
+}  // namespace rt::cli

@@ -1,0 +1,43 @@
+// retarget: command-line entry point. Wiring only: each subcommand is in cli/cmd_<name>.cpp.
+
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+#include <vector>
+
+#include "cli/command.hpp"
+#include "cli/exit_codes.hpp"
+#include "retarget/core/error.hpp"
+#include "retarget/core/version.hpp"
+
+int main(int argc, char** argv) {
+  using namespace rt::cli;
+  CLI::App app{"retarget: a motion retargeting compiler for humanoid robots.\n"
+               "Turns human motion capture (BVH, C3D) into robot reference trajectories for a URDF robot."};
+  app.set_version_flag("--version", std::string("retarget ") + rt::kVersion);
+  app.require_subcommand(1);
+  app.footer(
+      "Exit codes: 0 ok, 1 check failed, 2 bad input or usage, 3 internal error.\n"
+      "Run 'retarget <command> --help' for a command's options.");
+
+  std::vector<Command> commands = {setup_inspect(app)};
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int rc = app.exit(e);  // prints help / version / the usage error
+    return rc == 0 ? kExitOk : kExitBadInput;
+  }
+
+  try {
+    for (const Command& c : commands)
+      if (c.app->parsed()) return c.run();
+    return kExitBadInput;
+  } catch (const rt::InputError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return kExitBadInput;
+  } catch (const std::exception& e) {
+    std::cerr << "internal error: " << e.what() << "\n";
+    return kExitInternal;
+  }
+}
