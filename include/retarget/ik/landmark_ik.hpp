@@ -1,0 +1,69 @@
+#pragma once
+/// Per-frame inverse kinematics on landmarks (design.md §3.2): floating-base pose + joint angles
+/// minimising weighted landmark position and orientation errors plus a small regulariser towards
+/// the previous frame, with the joint position limits as hard bounds (bounded_lm.hpp).
+///
+/// Residuals, all weighted by the square roots of their weights:
+///   position     √w_i (p_W(link_i, p_L_i)(q) − p_W_target_i)                 [m]
+///   orientation  √w_o,i log(R_W_target_i (R_W_link_i(q) R_L_lm_i)ᵀ)           [rad]
+///   regulariser  √λ (q ⊖ q_prev)                                             [rad, m]
+/// R_L_lm_i is the landmark frame in the link frame, taken from the robot's zero configuration
+/// (root at the origin, all joints 0), where every landmark frame is aligned with the world:
+/// x forward, y left, z up (robot configs are written for robots that stand so at q = 0).
+
+#include <string>
+#include <vector>
+
+#include "retarget/core/types.hpp"
+#include "retarget/ik/bounded_lm.hpp"
+#include "retarget/model/robot_data.hpp"
+
+namespace rt {
+
+struct IkOptions {
+  int max_iterations = 30;
+  double step_tolerance = 1e-4;      ///< [rad, m] stop when no joint or root coordinate moves more
+  double cost_tolerance = 1e-2;      ///< stop when a step lowers the cost by less than this fraction
+  double regularization = 1e-3;      ///< λ: weight of q ⊖ q_prev relative to a unit landmark weight
+  double joint_limit_margin = 1e-4;  ///< [rad] the solution stays this far inside the limits
+};
+
+/// One tracked point (and optionally orientation) for one frame.
+struct IkTarget {
+  int link = -1;
+  Vec3 p_L = Vec3::Zero();         ///< [m] tracked point in the link frame
+  Vec3 p_W = Vec3::Zero();         ///< [m] target position in W
+  double weight = 1.0;             ///< position weight (0 disables)
+  Mat3 R_L_frame = Mat3::Identity();  ///< landmark frame in the link frame
+  Quat R_W = Quat::Identity();     ///< target orientation of the landmark frame in W
+  double orientation_weight = 0.0; ///< 0 disables the orientation residual
+};
+
+struct IkResult {
+  BoundedLmResult solver;
+  double rms_error_m = 0;   ///< weighted RMS position error over the targets with weight > 0
+  double max_error_m = 0;   ///< largest (unweighted) position error
+  int worst_target = -1;    ///< index into the targets of max_error_m
+};
+
+class LandmarkIk {
+ public:
+  LandmarkIk(const RobotModel& model, IkOptions options = {});
+
+  /// Landmark frame orientation in a link frame from the zero configuration (see file comment).
+  Mat3 landmark_frame_in_link(int link) const;
+
+  /// Solves one frame in place: `q` is the warm start and the result (nq); `q_prev` the
+  /// regularisation anchor. Joint values outside the limits in the warm start are clamped first.
+  IkResult solve(RobotData& data, const std::vector<IkTarget>& targets, const VecX& q_prev, VecX& q) const;
+
+  const IkOptions& options() const { return options_; }
+
+ private:
+  const RobotModel* model_;
+  IkOptions options_;
+  std::vector<Mat3> R_L_lm_;  ///< per link
+  std::vector<std::vector<int>> chains_;  ///< per link: the dofs (ascending) that move it
+};
+
+}  // namespace rt
