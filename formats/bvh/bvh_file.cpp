@@ -24,9 +24,4 @@ int BvhFile::joint_of_column(int column) const {
   return -1;
 }
 
-std::string BvhFile::joint_location(int joint) const {
-  if (joint < 0 || joint >= static_cast<int>(joints.size())) return name;
-  return name + ":" + std::to_string(joints[static_cast<std::size_t>(joint)].line);
-}
-
 }  // namespace rt

@@ -63,8 +63,6 @@ struct BvhFile {
   int find_joint(std::string_view joint_name) const;
   /// Joint that owns motion column `column`, or -1 if out of range.
   int joint_of_column(int column) const;
-  /// "file:line" of a joint's declaration, for messages.
-  std::string joint_location(int joint) const;
 };
 
 }  // namespace rt

@@ -11,7 +11,9 @@
 /// keywords or channel names, a joint without OFFSET, a missing MOTION / Frames / Frame Time, a
 /// motion row with fewer or more values than the hierarchy has channels, values that are not
 /// numbers or not finite (NaN, inf, overflow), a negative Frame Time, a frame count that is not a
-/// non-negative 32-bit integer, and fewer rows than `Frames:` declares.
+/// non-negative 32-bit integer, and fewer rows than `Frames:` declares. Motion-row errors name
+/// the frame 0-based (the first row is frame 0) and the column with its joint and channel, e.g.
+/// `walk.bvh:212:14: value 'nan' is not a finite number in frame 192 (column 5, Hips Xrotation)`.
 ///
 /// More rows than `Frames:` declares is a warning (Diagnostics); by default the extra rows are
 /// ignored. Memory use is bounded by the text size: nothing is reserved from a declared count
@@ -33,6 +35,11 @@ struct BvhReadOptions {
   /// [bytes] largest file read_bvh accepts (a file this large would hold ~1e8 values).
   std::uint64_t max_file_bytes = 1ull << 30;
 };
+
+/// True when `prefix` (the start of a file, any length) begins like BVH text: optional UTF-8
+/// byte-order mark and whitespace, then the keyword HIERARCHY (any case). For choosing a reader
+/// by content.
+bool is_bvh_text(std::string_view prefix);
 
 /// Parses BVH text. `name` is the file name used in error locations. Warnings go to
 /// `diagnostics` when it is not null.
