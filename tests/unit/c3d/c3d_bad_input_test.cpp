@@ -1,0 +1,283 @@
+// Malformed C3D input: every case must end in one rt::InputError whose one-line message carries a
+// `file@0x<offset>` location (plus `[GROUP:PARAM]` when a parameter is at fault). Cases are built
+// from the in-test writer's well-formed files; tests/data/c3d holds a few files that the writer
+// cannot produce.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <regex>
+
+#include "c3d_test_writer.hpp"
+#include "formats/c3d/c3d_reader.hpp"
+#include "retarget/core/error.hpp"
+#include "retarget/core/file_io.hpp"
+#include "support/test_paths.hpp"
+
+namespace rt {
+namespace {
+
+using c3d::Processor;
+
+test::C3dSpec base_spec(bool float_storage = true, Processor p = Processor::Intel) {
+  test::C3dSpec s;
+  s.processor = p;
+  s.float_storage = float_storage;
+  s.labels = {"LASI", "RASI", "LPSI"};
+  s.analog_channels = 2;
+  s.analog_samples_per_frame = 2;
+  s.events = {{"Foot Strike", 0.1}};
+  for (int f = 0; f < 12; ++f)
+    s.samples.push_back({{{100.0f + f, 200, 900, 1}}, {{100, -200.0f - f, 900, 1}}, {{-50, 0, 950, f == 4 ? -1.0f : 1.0f}}});
+  return s;
+}
+
+// Parses and returns the InputError message; fails the test when no InputError is thrown.
+std::string error_of(const std::string& bytes, const std::string& name = "bad.c3d") {
+  try {
+    c3d::parse_c3d(bytes, name);
+  } catch (const InputError& e) {
+    return e.what();
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "unexpected exception type: " << e.what();
+    return {};
+  }
+  ADD_FAILURE() << "no error for " << name;
+  return {};
+}
+
+// `name@0x<hex>` (optionally ` [GROUP:PARAM]`) then ": message", on one line.
+void expect_location(const std::string& message, const std::string& parameter = {}) {
+  EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  static const std::regex kLocation(R"(^[^@]+@0x[0-9a-f]{4,}( \[[A-Za-z0-9_ ]+:[A-Za-z0-9_ ]+\])?: .+)");
+  EXPECT_TRUE(std::regex_match(message, kLocation)) << message;
+  if (!parameter.empty()) {
+    EXPECT_NE(message.find("[" + parameter + "]"), std::string::npos) << message;
+  }
+}
+
+TEST(C3dBadInput, EmptyAndNotC3d) {
+  std::string m = error_of("");
+  expect_location(m);
+  EXPECT_NE(m.find("empty file"), std::string::npos);
+  m = error_of("HIERARCHY\nROOT Hips\n{\n  OFFSET 0 0 0\n}\n" + std::string(600, ' '), "text.c3d");
+  expect_location(m);
+  EXPECT_NE(m.find("not a C3D file"), std::string::npos);
+  m = error_of(std::string("\x02\x50", 2) + std::string(100, '\0'));
+  expect_location(m);
+  EXPECT_NE(m.find("truncated inside the 512-byte header"), std::string::npos);
+}
+
+TEST(C3dBadInput, CorpusFilesInTestsData) {
+  for (const char* f : {"empty.c3d", "text_file.c3d", "garbage.c3d", "header_only.c3d"}) {
+    const std::string path = test::source_path(std::string("tests/data/c3d/") + f);
+    SCOPED_TRACE(path);
+    try {
+      c3d::read_c3d(path);
+      ADD_FAILURE() << "no error";
+    } catch (const InputError& e) {
+      expect_location(e.what());
+      EXPECT_NE(std::string(e.what()).find(f), std::string::npos);
+    }
+  }
+}
+
+TEST(C3dBadInput, TruncatedAtEveryPoint) {
+  for (bool float_storage : {true, false}) {
+    const test::C3dBytes b = test::write_c3d(base_spec(float_storage));
+    const c3d::C3dFile whole = c3d::parse_c3d(b.bytes, "whole.c3d");
+    const std::size_t data_end = whole.data_offset + whole.frame_bytes * 12;
+    for (std::size_t n = 0; n < data_end; ++n) {
+      SCOPED_TRACE(n);
+      expect_location(error_of(b.bytes.substr(0, n)));
+    }
+    // Cutting only the block padding after the last frame is harmless.
+    EXPECT_NO_THROW(c3d::parse_c3d(b.bytes.substr(0, data_end), "exact.c3d"));
+  }
+}
+
+TEST(C3dBadInput, RealFilesTruncated) {
+  RT_REQUIRE_SHARED(path, "c3d/btk_PiG_Motion-FlatFoot-One_vicon_fullbody.c3d");
+  const std::string bytes = read_file(path);
+  for (int k = 0; k < 64; ++k) {
+    const std::size_t n = bytes.size() * static_cast<std::size_t>(k) / 64 + static_cast<std::size_t>(k);
+    SCOPED_TRACE(n);
+    expect_location(error_of(bytes.substr(0, n), "pig_cut.c3d"));
+  }
+}
+
+TEST(C3dBadInput, BadProcessorAndSectionPointers) {
+  test::C3dBytes b = test::write_c3d(base_spec());
+  std::string bad = b.bytes;
+  bad[b.parameter_offset + 3] = 12;
+  std::string m = error_of(bad);
+  expect_location(m);
+  EXPECT_NE(m.find("@0x0203"), std::string::npos) << m;
+  EXPECT_NE(m.find("unknown processor type 12"), std::string::npos);
+
+  bad = b.bytes;
+  bad[0] = 0;  // parameter section at block 0
+  expect_location(error_of(bad));
+  bad[0] = static_cast<char>(200);  // past the end of the file
+  m = error_of(bad);
+  expect_location(m);
+  EXPECT_NE(m.find("past the end of the file"), std::string::npos);
+
+  bad = b.bytes;
+  bad[b.parameter_offset + 2] = static_cast<char>(255);  // absurd parameter block count
+  m = error_of(bad);
+  expect_location(m);
+  EXPECT_NE(m.find("extends past the end"), std::string::npos);
+}
+
+TEST(C3dBadInput, CyclicAndOutOfRangeParameterOffsets) {
+  const test::C3dBytes b = test::write_c3d(base_spec());
+  const test::C3dWriter w(Processor::Intel);
+  const std::size_t link = b.link_offset.at("POINT:RATE");
+  std::string bad = b.bytes;
+  w.set_i16(bad, link, -40);  // points back to an earlier record
+  std::string m = error_of(bad);
+  expect_location(m, "POINT:RATE");
+  EXPECT_NE(m.find("backwards"), std::string::npos);
+
+  bad = b.bytes;
+  w.set_i16(bad, link, 0x7000);  // far past the section, not the last record
+  m = error_of(bad);
+  expect_location(m, "POINT:RATE");
+  EXPECT_NE(m.find("past the end of the parameter section"), std::string::npos);
+
+  bad = b.bytes;
+  w.set_i16(bad, link, 1);  // into its own link word
+  expect_location(error_of(bad), "POINT:RATE");
+
+  bad = b.bytes;
+  w.set_i16(bad, link, 4);  // too short for the parameter's own data
+  m = error_of(bad);
+  expect_location(m, "POINT:RATE");
+  EXPECT_NE(m.find("overruns"), std::string::npos);
+}
+
+TEST(C3dBadInput, CorruptParameterRecords) {
+  const test::C3dBytes b = test::write_c3d(base_spec());
+  const std::size_t rec = b.record_offset.at("POINT:SCALE");
+  const std::size_t type_at = b.link_offset.at("POINT:SCALE") + 2;
+  std::string bad = b.bytes;
+  bad[type_at] = 3;
+  std::string m = error_of(bad);
+  expect_location(m, "POINT:SCALE");
+  EXPECT_NE(m.find("unknown parameter type 3"), std::string::npos);
+
+  bad = b.bytes;
+  bad[type_at + 1] = 9;  // dimensions
+  expect_location(error_of(bad), "POINT:SCALE");
+
+  bad = b.bytes;
+  bad[type_at + 1] = 7;  // 7 dimensions: the record has no room for them
+  m = error_of(bad);
+  expect_location(m, "POINT:SCALE");
+  EXPECT_NE(m.find("dimensions run past the end of the record"), std::string::npos) << m;
+
+  bad = b.bytes;  // 7 dimensions of 255 (7e16 elements) in a record with room for the dimensions
+  const std::size_t labels_type = b.link_offset.at("POINT:LABELS") + 2;
+  bad[labels_type + 1] = 7;
+  for (int k = 0; k < 7; ++k) bad[labels_type + 2 + static_cast<std::size_t>(k)] = static_cast<char>(255);
+  m = error_of(bad);
+  expect_location(m, "POINT:LABELS");
+  EXPECT_NE(m.find("overruns"), std::string::npos) << m;
+
+  bad = b.bytes;
+  bad[rec + 1] = 0;  // group id 0
+  expect_location(error_of(bad));
+
+  bad = b.bytes;
+  bad[rec + 3] = '\x07';  // control character in the name
+  m = error_of(bad);
+  expect_location(m);
+  EXPECT_NE(m.find("printable"), std::string::npos);
+}
+
+// Sets the first element of a numeric parameter in a written file.
+void set_number(test::C3dBytes& b, const std::string& key, double v, c3d::DataType t) {
+  const test::C3dWriter w(Processor::Intel);
+  const std::size_t type_at = b.link_offset.at(key) + 2;
+  const std::size_t ndims = static_cast<unsigned char>(b.bytes[type_at + 1]);
+  const std::size_t at = type_at + 2 + ndims;
+  if (t == c3d::DataType::Float) w.set_f32(b.bytes, at, static_cast<float>(v));
+  else w.set_i16(b.bytes, at, static_cast<int>(v));
+}
+
+TEST(C3dBadInput, AbsurdCounts) {
+  {  // 30000 points in a small file: the data section cannot hold them
+    test::C3dBytes b = test::write_c3d(base_spec());
+    set_number(b, "POINT:USED", 30000, c3d::DataType::Int16);
+    const std::string m = error_of(b.bytes);
+    expect_location(m);
+    EXPECT_NE(m.find("data section truncated"), std::string::npos) << m;
+  }
+  {  // 65535 header frames
+    test::C3dSpec s = base_spec();
+    s.header_frames_override = 65000;
+    expect_location(error_of(test::write_c3d(s).bytes));
+  }
+  {  // 32-bit frame count of 2^31 - 1 via TRIAL
+    test::C3dSpec s = base_spec();
+    s.trial_fields = true;
+    test::C3dBytes b = test::write_c3d(s);
+    const test::C3dWriter w(Processor::Intel);
+    const std::size_t at = b.link_offset.at("TRIAL:ACTUAL_END_FIELD") + 2 + 3;
+    w.set_i16(b.bytes, at, -1);
+    w.set_i16(b.bytes, at + 2, 0x7fff);
+    const std::string m = error_of(b.bytes);
+    expect_location(m);
+  }
+  {  // 65535 analog channels at a huge rate
+    test::C3dBytes b = test::write_c3d(base_spec());
+    set_number(b, "ANALOG:USED", -1, c3d::DataType::Int16);  // 65535 as unsigned
+    set_number(b, "ANALOG:RATE", 1e9, c3d::DataType::Float);
+    expect_location(error_of(b.bytes));
+  }
+  {  // last frame before the first
+    test::C3dSpec s = base_spec();
+    s.first_frame = 100;
+    s.header_frames_override = -5;
+    expect_location(error_of(test::write_c3d(s).bytes));
+  }
+  {  // data start beyond the end of the file
+    test::C3dBytes b = test::write_c3d(base_spec());
+    set_number(b, "POINT:DATA_START", 4000, c3d::DataType::Int16);
+    const std::string m = error_of(b.bytes);
+    expect_location(m, "POINT:DATA_START");
+  }
+}
+
+TEST(C3dBadInput, BadNumbers) {
+  {  // NaN rate
+    test::C3dBytes b = test::write_c3d(base_spec());
+    set_number(b, "POINT:RATE", std::numeric_limits<double>::quiet_NaN(), c3d::DataType::Float);
+    expect_location(error_of(b.bytes), "POINT:RATE");
+  }
+  {  // zero scale with integer storage
+    test::C3dBytes b = test::write_c3d(base_spec(false));
+    set_number(b, "POINT:SCALE", 0, c3d::DataType::Float);
+    const std::string m = error_of(b.bytes);
+    expect_location(m, "POINT:SCALE");
+  }
+  for (float bad : {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity()}) {
+    test::C3dSpec s = base_spec();
+    s.samples[3][1][1] = bad;  // a valid sample (residual 1)
+    const std::string m = error_of(test::write_c3d(s).bytes);
+    expect_location(m);
+    EXPECT_NE(m.find("frame 3 (file frame 4), point 2 'RASI': non-finite coordinate"), std::string::npos) << m;
+  }
+  {  // NaN in an invalid sample is no error: the sample is flagged, its coordinates zeroed
+    test::C3dSpec s = base_spec();
+    s.samples[4][2][0] = std::numeric_limits<float>::quiet_NaN();
+    const c3d::C3dFile f = c3d::parse_c3d(test::write_c3d(s).bytes, "nan_invalid.c3d");
+    EXPECT_FALSE(f.points.valid(4, 2));
+    EXPECT_EQ(f.points.at(4, 2)[0], 0.0f);
+  }
+}
+
+}  // namespace
+}  // namespace rt
