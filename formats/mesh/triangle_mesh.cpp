@@ -5,10 +5,13 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
+#include <filesystem>
+#include <memory>
 #include <limits>
-#include <set>
 #include <unordered_map>
 #include <utility>
 
@@ -29,36 +32,116 @@ Vec3 TriangleMesh::max_corner() const {
   return m;
 }
 
-TriangleMesh load_mesh(const std::string& path, const MeshLoadOptions& options) {
-  if (!options.scale.allFinite() || (options.scale.array() == 0).any())
-    throw InputError(path, "mesh scale must be finite and non-zero");
+namespace {
+
+std::uint32_t get_u32(const unsigned char* p) {
+  return static_cast<std::uint32_t>(p[0]) | (static_cast<std::uint32_t>(p[1]) << 8) |
+         (static_cast<std::uint32_t>(p[2]) << 16) | (static_cast<std::uint32_t>(p[3]) << 24);
+}
+
+float get_f32(const unsigned char* p) {
+  const std::uint32_t u = get_u32(p);
+  float f = 0;
+  std::memcpy(&f, &u, sizeof f);
+  return f;
+}
+
+// Adds a vertex, merging exact duplicates (STL stores every corner of every triangle; assimp's
+// JoinIdenticalVertices keeps them apart when their face normals differ, and is slow).
+class VertexPool {
+ public:
+  explicit VertexPool(TriangleMesh& mesh) : mesh_(mesh) {}
+  int add(const Vec3& v) {
+    std::uint64_t h = 1469598103934665603ull;
+    for (int k = 0; k < 3; ++k) {
+      std::uint64_t bits = 0;
+      const double x = v[k] == 0 ? 0.0 : v[k];  // +0 and -0 are the same point
+      std::memcpy(&bits, &x, sizeof bits);
+      h = (h ^ bits) * 1099511628211ull;
+    }
+    auto range = index_.equal_range(h);
+    for (auto it = range.first; it != range.second; ++it)
+      if (mesh_.vertices[static_cast<std::size_t>(it->second)] == v) return it->second;
+    const int id = static_cast<int>(mesh_.vertices.size());
+    mesh_.vertices.push_back(v);
+    index_.emplace(h, id);
+    return id;
+  }
+
+ private:
+  TriangleMesh& mesh_;
+  std::unordered_multimap<std::uint64_t, int> index_;
+};
+
+void add_triangle(TriangleMesh& mesh, VertexPool& pool, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const std::array<int, 3> t{pool.add(a), pool.add(b), pool.add(c)};
+  if (t[0] != t[1] && t[1] != t[2] && t[0] != t[2]) mesh.faces.push_back(t);
+}
+
+// Binary STL, recognised by its exact size (84 + 50 n bytes); most robot packages ship these, and
+// reading them directly is an order of magnitude faster than through assimp. False otherwise.
+bool read_binary_stl(const std::string& path, const Vec3& scale, TriangleMesh& mesh) {
+  std::error_code ec;
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  if (ec || size < 84 || size > (std::uintmax_t{1} << 32)) return false;
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
+  if (!f) return false;
+  unsigned char header[84];
+  if (std::fread(header, 1, 84, f.get()) != 84) return false;
+  const std::uint64_t count = get_u32(header + 80);
+  if (count == 0 || 84 + 50 * count != size) return false;
+  std::string bytes(static_cast<std::size_t>(50 * count), '\0');
+  if (std::fread(bytes.data(), 1, bytes.size(), f.get()) != bytes.size()) return false;
+  const auto* p = reinterpret_cast<const unsigned char*>(bytes.data());
+  VertexPool pool(mesh);
+  for (std::uint64_t i = 0; i < count; ++i) {
+    const unsigned char* t = p + 50 * i + 12;  // skip the stored normal
+    Vec3 v[3];
+    for (int k = 0; k < 3; ++k) {
+      v[k] = Vec3(get_f32(t + 12 * k), get_f32(t + 12 * k + 4), get_f32(t + 12 * k + 8)).cwiseProduct(scale);
+      if (!v[k].allFinite()) throw InputError(path, "mesh has a non-finite vertex (triangle " + std::to_string(i) + ")");
+    }
+    add_triangle(mesh, pool, v[0], v[1], v[2]);
+  }
+  return true;
+}
+
+void read_with_assimp(const std::string& path, const Vec3& scale, TriangleMesh& mesh) {
   Assimp::Importer importer;
   // Keep URDF/ROS coordinates: by default assimp rotates Z_UP COLLADA files to Y up.
   importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
   const aiScene* scene =
-      importer.ReadFile(path, aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_JoinIdenticalVertices |
-                                  aiProcess_SortByPType);
+      importer.ReadFile(path, aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_SortByPType);
   if (!scene) throw InputError(path, std::string("cannot read mesh: ") + importer.GetErrorString());
-
-  TriangleMesh mesh;
+  VertexPool pool(mesh);
   for (unsigned mi = 0; mi < scene->mNumMeshes; ++mi) {
     const aiMesh* m = scene->mMeshes[mi];
     if (!(m->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
-    const int base = static_cast<int>(mesh.vertices.size());
-    for (unsigned v = 0; v < m->mNumVertices; ++v) {
-      const aiVector3D& p = m->mVertices[v];
-      const Vec3 x = Vec3(p.x, p.y, p.z).cwiseProduct(options.scale);
-      if (!x.allFinite()) throw InputError(path, "mesh has a non-finite vertex");
-      mesh.vertices.push_back(x);
-    }
     for (unsigned f = 0; f < m->mNumFaces; ++f) {
       const aiFace& face = m->mFaces[f];
       if (face.mNumIndices != 3) continue;
-      std::array<int, 3> t{};
-      for (int k = 0; k < 3; ++k) t[static_cast<std::size_t>(k)] = base + static_cast<int>(face.mIndices[k]);
-      mesh.faces.push_back(t);
+      Vec3 v[3];
+      for (int k = 0; k < 3; ++k) {
+        if (face.mIndices[k] >= m->mNumVertices) throw InputError(path, "mesh has a face with a bad vertex index");
+        const aiVector3D& p = m->mVertices[face.mIndices[k]];
+        v[k] = Vec3(p.x, p.y, p.z).cwiseProduct(scale);
+        if (!v[k].allFinite()) throw InputError(path, "mesh has a non-finite vertex");
+      }
+      add_triangle(mesh, pool, v[0], v[1], v[2]);
     }
+  }
+}
+
+}  // namespace
+
+TriangleMesh load_mesh(const std::string& path, const MeshLoadOptions& options) {
+  if (!options.scale.allFinite() || (options.scale.array() == 0).any())
+    throw InputError(path, "mesh scale must be finite and non-zero");
+  TriangleMesh mesh;
+  if (!read_binary_stl(path, options.scale, mesh)) {
+    mesh = TriangleMesh();
+    read_with_assimp(path, options.scale, mesh);
   }
   if (mesh.faces.empty()) throw InputError(path, "mesh has no triangles");
   // A mirroring scale turns counter-clockwise triangles clockwise: swap two corners to keep
@@ -75,7 +158,9 @@ TriangleMesh simplify_mesh(const TriangleMesh& mesh, int max_faces) {
   const Vec3 lo = mesh.min_corner();
   const double extent = (mesh.max_corner() - lo).maxCoeff();
   if (!(extent > 0)) return mesh;
-  double cell = extent / 2048.0;
+  // A closed surface clustered on a grid of cell h keeps about 4 (extent / h)^2 triangles: start
+  // a little finer than that and coarsen until the bound holds.
+  double cell = extent / std::sqrt(static_cast<double>(max_faces));
   for (;;) {
     std::unordered_map<std::uint64_t, int> cell_vertex;
     std::vector<Vec3> sum;
@@ -97,17 +182,18 @@ TriangleMesh simplify_mesh(const TriangleMesh& mesh, int max_faces) {
     TriangleMesh out;
     out.vertices.resize(sum.size());
     for (std::size_t i = 0; i < sum.size(); ++i) out.vertices[i] = sum[i] / count[i];
-    std::set<std::array<int, 3>> seen;
     for (const auto& f : mesh.faces) {
       std::array<int, 3> g{remap[static_cast<std::size_t>(f[0])], remap[static_cast<std::size_t>(f[1])],
                            remap[static_cast<std::size_t>(f[2])]};
       if (g[0] == g[1] || g[1] == g[2] || g[0] == g[2]) continue;
       // Rotate so the smallest index leads: the same triangle with the same winding dedupes.
       while (g[0] > g[1] || g[0] > g[2]) g = {g[1], g[2], g[0]};
-      if (seen.insert(g).second) out.faces.push_back(g);
+      out.faces.push_back(g);
     }
+    std::sort(out.faces.begin(), out.faces.end());
+    out.faces.erase(std::unique(out.faces.begin(), out.faces.end()), out.faces.end());
     if (static_cast<long>(out.faces.size()) <= max_faces || out.vertices.size() <= 4) return out;
-    cell *= 1.5;
+    cell *= 1.25;
   }
 }
 

@@ -3,6 +3,9 @@
 #include <urdf_parser/urdf_parser.h>
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cctype>
+#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -110,6 +113,7 @@ class Reader {
   std::string where(int line) const { return line > 0 ? name_ + ":" + std::to_string(line) : name_; }
 
   void index_xml(const std::string& xml);
+  void check_numbers(const TiXmlElement* e, const std::string& owner) const;
   void check_structure();
   void parse_with_urdfdom(const std::string& xml);
   void fill_link(const XmlLink& x, UrdfLink& link) const;
@@ -131,10 +135,105 @@ const char* attribute(const TiXmlElement* e, const char* name) {
   return v ? v : "";
 }
 
+// Parses whitespace-separated finite numbers (locale-independent). False on anything else.
+bool parse_numbers(const std::string& text, std::size_t count, std::vector<double>& out) {
+  out.clear();
+  const char* p = text.data();
+  const char* end = p + text.size();
+  while (true) {
+    while (p < end && std::isspace(static_cast<unsigned char>(*p))) ++p;
+    if (p == end) break;
+    if (*p == '+') ++p;
+    double v = 0;
+    const auto r = std::from_chars(p, end, v);
+    if (r.ec != std::errc() || !std::isfinite(v)) return false;
+    if (r.ptr < end && !std::isspace(static_cast<unsigned char>(*r.ptr))) return false;
+    out.push_back(v);
+    p = r.ptr;
+  }
+  return out.size() == count;
+}
+
+// urdfdom logs malformed numbers without saying where they are (and half-parses the element), so
+// every numeric attribute is checked here first, with its line.
+void Reader::check_numbers(const TiXmlElement* e, const std::string& owner) const {
+  if (!e) return;
+  struct Rule {
+    const char* element;
+    const char* attribute;
+    std::size_t count;
+  };
+  static constexpr Rule kRules[] = {
+      {"origin", "xyz", 3},      {"origin", "rpy", 3},       {"mass", "value", 1},      {"inertia", "ixx", 1},
+      {"inertia", "ixy", 1},     {"inertia", "ixz", 1},      {"inertia", "iyy", 1},     {"inertia", "iyz", 1},
+      {"inertia", "izz", 1},     {"box", "size", 3},         {"cylinder", "radius", 1}, {"cylinder", "length", 1},
+      {"sphere", "radius", 1},   {"mesh", "scale", 3},       {"axis", "xyz", 3},        {"limit", "lower", 1},
+      {"limit", "upper", 1},     {"limit", "effort", 1},     {"limit", "velocity", 1},  {"dynamics", "damping", 1},
+      {"dynamics", "friction", 1}, {"mimic", "multiplier", 1}, {"mimic", "offset", 1}};
+  std::vector<double> values;
+  for (const Rule& rule : kRules) {
+    if (e->ValueStr() != rule.element) continue;
+    const char* v = e->Attribute(rule.attribute);
+    if (v && !parse_numbers(v, rule.count, values))
+      fail(e->Row(), "<" + e->ValueStr() + " " + rule.attribute + "=\"" + v + "\"> in " + owner + ": expected " +
+                         (rule.count == 1 ? std::string("a finite number") : std::to_string(rule.count) + " finite numbers"));
+  }
+  for (const TiXmlElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) check_numbers(c, owner);
+}
+
+// Deepest element nesting of an XML text (comments, CDATA, declarations and quoted attribute
+// values skipped). tinyxml parses recursively, so absurd nesting must be refused before parsing.
+int max_nesting(const std::string& xml) {
+  int depth = 0, deepest = 0;
+  const std::size_t n = xml.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    if (xml[i] != '<') continue;
+    if (xml.compare(i, 4, "<!--") == 0) {
+      const auto e = xml.find("-->", i + 4);
+      if (e == std::string::npos) break;
+      i = e + 2;
+    } else if (xml.compare(i, 9, "<![CDATA[") == 0) {
+      const auto e = xml.find("]]>", i + 9);
+      if (e == std::string::npos) break;
+      i = e + 2;
+    } else if (i + 1 < n && (xml[i + 1] == '?' || xml[i + 1] == '!')) {
+      const auto e = xml.find('>', i + 2);
+      if (e == std::string::npos) break;
+      i = e;
+    } else if (i + 1 < n && xml[i + 1] == '/') {
+      --depth;
+    } else {
+      // An opening tag: find its end outside quotes; "/>" closes it at once.
+      char quote = 0;
+      std::size_t j = i + 1;
+      for (; j < n; ++j) {
+        if (quote) {
+          if (xml[j] == quote) quote = 0;
+        } else if (xml[j] == '"' || xml[j] == '\'') {
+          quote = xml[j];
+        } else if (xml[j] == '>') {
+          break;
+        }
+      }
+      if (j >= n) break;
+      if (xml[j - 1] != '/') deepest = std::max(deepest, ++depth);
+      i = j;
+    }
+  }
+  return deepest;
+}
+
 void Reader::index_xml(const std::string& xml) {
+  constexpr int kMaxNesting = 200;  // URDFs nest 5 or 6 deep
+  if (max_nesting(xml) > kMaxNesting)
+    fail(0, "XML elements nested more than " + std::to_string(kMaxNesting) + " deep: not a URDF");
   TiXmlDocument doc;
   doc.Parse(xml.c_str(), nullptr, TIXML_ENCODING_UTF8);
-  if (doc.Error()) fail(doc.ErrorRow(), std::string("not a valid XML document: ") + doc.ErrorDesc());
+  if (trim(xml).empty()) fail(0, "empty file");
+  if (doc.Error()) {
+    if (doc.ErrorId() == TiXmlBase::TIXML_ERROR_DOCUMENT_EMPTY) fail(0, "not an XML document (no element found)");
+    fail(doc.ErrorRow(), std::string("not a valid XML document: ") + doc.ErrorDesc());
+  }
   const TiXmlElement* robot = doc.RootElement();
   if (!robot || robot->ValueStr() != "robot")
     fail(robot ? robot->Row() : 0, "not a URDF: the document has no <robot> element");
@@ -147,6 +246,12 @@ void Reader::index_xml(const std::string& xml) {
       link.name = attribute(e, "name");
       link.line = e->Row();
       if (link.name.empty()) fail(link.line, "<link> without a name");
+      check_numbers(e, "link '" + link.name + "'");
+      if (const TiXmlElement* in = e->FirstChildElement("inertial")) {
+        const TiXmlElement* mass = in->FirstChildElement("mass");
+        if (!mass || !mass->Attribute("value"))
+          fail(in->Row(), "<inertial> of link '" + link.name + "' has no <mass value=...>");
+      }
       if (index_.link_by_name.count(link.name))
         fail(link.line, "duplicate link '" + link.name + "' (first defined at line " +
                             std::to_string(index_.links[static_cast<std::size_t>(index_.link_by_name[link.name])].line) + ")");
@@ -173,6 +278,7 @@ void Reader::index_xml(const std::string& xml) {
       joint.type = attribute(e, "type");
       joint.line = e->Row();
       if (joint.name.empty()) fail(joint.line, "<joint> without a name");
+      check_numbers(e, "joint '" + joint.name + "'");
       if (index_.joint_by_name.count(joint.name))
         fail(joint.line, "duplicate joint '" + joint.name + "' (first defined at line " +
                              std::to_string(index_.joints[static_cast<std::size_t>(index_.joint_by_name[joint.name])].line) + ")");
@@ -231,15 +337,16 @@ void Reader::check_structure() {
   }
   // Every link must be reachable from the root; with one parent per link and a single root, an
   // unreachable link lies on a cycle.
+  std::vector<std::vector<int>> children(n);
+  for (const XmlJoint& x : index_.joints)
+    children[static_cast<std::size_t>(index_.link_by_name.at(x.parent))].push_back(index_.link_by_name.at(x.child));
   std::vector<char> reached(n, 0);
   std::vector<int> stack{roots[0]};
   reached[static_cast<std::size_t>(roots[0])] = 1;
   while (!stack.empty()) {
     const int l = stack.back();
     stack.pop_back();
-    for (const XmlJoint& x : index_.joints) {
-      if (x.parent != index_.links[static_cast<std::size_t>(l)].name) continue;
-      const int c = index_.link_by_name.at(x.child);
+    for (int c : children[static_cast<std::size_t>(l)]) {
       if (!reached[static_cast<std::size_t>(c)]) {
         reached[static_cast<std::size_t>(c)] = 1;
         stack.push_back(c);
@@ -460,7 +567,7 @@ UrdfRobot Reader::read(const std::string& xml) {
     if (robot.links[i].parent_joint < 0) robot.root_link = static_cast<int>(i);
   for (const UrdfJoint& j : robot.joints) {
     if (j.mimic_joint.empty()) continue;
-    if (robot.find_joint(j.mimic_joint) < 0)
+    if (!index_.joint_by_name.count(j.mimic_joint))
       fail(j.line, "joint '" + j.name + "' mimics joint '" + j.mimic_joint + "', which does not exist");
     diagnostics_.note(where(j.line), "joint '" + j.name + "' mimics '" + j.mimic_joint +
                                          "'; the coupling is not enforced (the joint is treated as independent)");

@@ -7,6 +7,8 @@
 /// velocity v of robot_model.hpp (root linear velocity in W, root angular velocity in the root
 /// frame). `p_L` points are in the link frame.
 
+#include <vector>
+
 #include "retarget/core/types.hpp"
 #include "retarget/model/robot_data.hpp"
 
@@ -15,8 +17,10 @@ namespace rt {
 /// Sets q (size nq) and runs forward kinematics + COM (mj_kinematics, mj_comPos).
 void update_kinematics(const RobotModel& model, RobotData& data, const VecXCRef& q);
 
-/// Sets q, v (nv) and computes everything the controller needs: kinematics, COM, mass matrix,
-/// bias forces (mj_forward without actuation).
+/// Sets q, v (nv) and computes everything the controller needs: kinematics, COM, body velocities,
+/// mass matrix (and its factorisation, so mj_solveM works on data.mj()), bias forces. These are the
+/// position/velocity stages of mj_forward without collision detection, constraints or actuation:
+/// contacts in data.mj() are not updated.
 void update_dynamics(const RobotModel& model, RobotData& data, const VecXCRef& q, const VecXCRef& v);
 
 /// Pose of a link in the world.
@@ -32,7 +36,7 @@ MatX link_jacobian(const RobotModel& model, const RobotData& data, int link, con
 /// Whole-body centre of mass [m] in W.
 Vec3 com_position(const RobotModel& model, const RobotData& data);
 
-/// 3 x nv Jacobian of the whole-body COM.
+/// 3 x nv Jacobian of the whole-body COM (mj_jacSubtreeCom on the root body).
 MatX com_jacobian(const RobotModel& model, const RobotData& data);
 
 /// nv x nv joint-space mass matrix M(q) (after update_dynamics).
@@ -41,11 +45,19 @@ MatX mass_matrix(const RobotModel& model, const RobotData& data);
 /// nv bias forces c(q, v) = Coriolis + centrifugal + gravity (after update_dynamics).
 VecX bias_forces(const RobotModel& model, const RobotData& data);
 
-/// J̇·v of a link point (6: [linear; angular], W), exact (after update_dynamics): MuJoCo's
-/// acceleration with q̈ = 0 (dependencies.md §5 recipe).
+/// J̇·v of a link point (6: [linear; angular], W), exact (after update_dynamics): the classical
+/// acceleration of the point and the angular acceleration of the link when q̈ = 0 (MuJoCo's
+/// mj_rnePostConstraint with zero qacc, dependencies.md §5). Overwrites data.mj()'s cacc,
+/// cfrc_int and cfrc_ext (qacc is restored); hence the non-const data.
 Vec6 link_jdot_v(const RobotModel& model, RobotData& data, int link, const Vec3& p_L = Vec3::Zero());
 
-/// Integrates q by v·dt on the configuration manifold (quaternion-aware).
+/// J̇·v of several link points with one MuJoCo acceleration pass (cheaper than calling
+/// link_jdot_v per link).
+std::vector<Vec6> links_jdot_v(const RobotModel& model, RobotData& data, const std::vector<int>& links,
+                               const std::vector<Vec3>& p_L);
+
+/// Integrates q by v·dt on the configuration manifold (quaternion-aware, mj_integratePos): the
+/// root moves by v_W·dt and turns by ω·dt about its own axes.
 VecX integrate(const RobotModel& model, const VecXCRef& q, const VecXCRef& v, double dt);
 
 /// v such that integrate(q1, v, dt) = q2 (quaternion-aware finite difference).

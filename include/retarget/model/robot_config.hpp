@@ -1,27 +1,33 @@
 #pragma once
 /// robot.yaml: how a URDF robot is retargeted to and simulated (design.md §4).
 ///
-/// Schema (every key is checked; unknown keys are errors naming their path and line):
+/// Schema (every key is checked; unknown keys are errors naming their path and line; links and
+/// joints are checked against the URDF by RobotModel::load, again with their robot.yaml line):
 ///
 ///   name: g1                                  # required
 ///   urdf: package://unitree_g1/g1.urdf        # required: relative to this file, absolute, or package://
 ///   package_paths: [../../../shared/data/robots]  # optional roots for package://<pkg>/ (relative to this file)
 ///   feet:                                     # required: both sides
-///     left:  {link: left_ankle_roll_link, sole: derive}
+///     left:  {link: left_ankle_roll_link, sole: derive}   # bounding box of the link's collision
+///                                             #   geometry in the link frame: bottom z, x/y extents
 ///     right: {link: right_ankle_roll_link, sole: {center: [0.035, 0, -0.035], size: [0.22, 0.08]}}
 ///   landmarks:                                # human landmark -> robot link (landmarks.hpp names)
 ///     pelvis:    {link: pelvis, weight: 1.0, orientation_weight: 1.0, offset: [0, 0, 0]}
-///     left_knee: {link: left_knee_link}
-///   export_joints: [left_hip_pitch_joint, ...]   # optional CSV column order (default: URDF order)
+///     left_knee: {link: left_knee_link}       # weight 1, orientation_weight 0, offset 0 by default
+///     right_knee: right_knee_link             # shorthand for {link: right_knee_link}
+///                                             # orientation_weight > 0 only for pelvis, chest,
+///                                             #   left_ankle, right_ankle (the oriented landmarks)
+///   export_joints: [left_hip_pitch_joint, ...]   # optional CSV column order (default: URDF order);
+///                                             #   must list every movable joint exactly once
 ///   standing_pose:                            # optional
-///     joints: {left_knee_joint: 0.3}          # [rad] (or m); unlisted joints are 0
+///     joints: {left_knee_joint: 0.3}          # [rad] (or m); unlisted joints are 0; within limits
 ///     root_height: 0.79                       # [m] optional; default puts the soles on the floor
 ///   controller:                               # optional (tracking controller, paper eq. 2)
 ///     kp: 36                                  # [1/s^2]
 ///     kd: 12                                  # [1/s]
 ///     joint_gains: {left_knee_joint: {kp: 49, kd: 14}}
 ///   simulation:                               # optional
-///     timestep: 0.001                         # [s]
+///     timestep: 0.001                         # [s] MuJoCo step of the dynamics check
 ///     armature: 0.01                          # [kg m^2] reflected rotor inertia added to every joint
 ///     joint_armature: {left_knee_joint: 0.05}
 ///     damping: 0.0                            # [N m s/rad] added to the URDF damping
@@ -52,6 +58,10 @@ struct FootConfig {
   std::string link;
   SoleConfig sole;
 };
+
+/// Foot sides, as indices into RobotConfig::feet and RobotModel::soles().
+inline constexpr int kLeftFoot = 0;
+inline constexpr int kRightFoot = 1;
 
 /// A human landmark tracked by a point (and optionally the orientation) of a robot link.
 struct LandmarkTarget {
@@ -95,6 +105,13 @@ struct RobotConfig {
   std::optional<double> standing_root_height_m;
   ControllerConfig controller;
   SimulationConfig simulation;
+
+  /// "file:line" where a key path was written ("feet.left.link", "export_joints[3]",
+  /// "standing_pose.joints.left_knee_joint", "landmarks.pelvis.link"); the file alone when the
+  /// key was not written there (defaults, or a config built in code). Used for errors found later
+  /// against the URDF (unknown links and joints).
+  std::string where(const std::string& key_path) const;
+  std::map<std::string, std::string> key_locations;  ///< key path -> "file:line"
 };
 
 /// Folders searched for robot names: $RETARGET_ROBOTS_PATH (colon-separated), then the project's
@@ -107,8 +124,14 @@ std::vector<std::string> robot_search_path();
 /// file:line and key path on any schema error, and when the URDF cannot be found.
 RobotConfig load_robot_config(const std::string& robot, const std::vector<std::string>& extra_package_paths = {});
 
+/// Parses robot.yaml text as if read from `config_path` (used in messages and as the base of
+/// relative paths; the file itself is not read). Same checks as load_robot_config.
+RobotConfig parse_robot_config(const std::string& yaml_text, const std::string& config_path,
+                               const std::vector<std::string>& extra_package_paths = {});
+
 /// Resolves a URDF/mesh reference: "package://pkg/rel" or "package:///abs" against the package
-/// search path, relative paths against `base_dir`. Returns "" when not found.
+/// search path (a package `pkg` is the folder <root>/pkg or <root>/*/pkg), relative paths against
+/// `base_dir`. Returns the absolute path of an existing file, or "" when not found.
 std::string resolve_resource(const std::string& uri, const std::string& base_dir,
                              const std::vector<std::string>& package_paths);
 

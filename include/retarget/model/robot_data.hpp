@@ -1,5 +1,7 @@
 #pragma once
 /// RobotData: the per-evaluation workspace of a RobotModel (owns one mjData). One per thread.
+/// A new RobotData holds the model's standing pose at rest (qpos = standing_q(), qvel = 0,
+/// mj_forward done). The model must outlive it.
 
 #include <memory>
 

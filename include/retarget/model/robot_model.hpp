@@ -7,11 +7,20 @@
 /// v = [v_W_root (3, world frame), ω_root (3, root link frame), joint rates (nu)]; nq = 7 + nu,
 /// nv = 6 + nu. Joints appear in "model order" (depth-first order of the kinematic tree, which is
 /// MuJoCo's order); `export_joint_order()` maps to the CSV column order.
+///
+/// The generated MuJoCo model (mj()): one body per link with a movable parent joint (links on
+/// fixed joints are merged into their parent's body: Link::body, Link::X_B_L), a free joint on the
+/// root body, hinge/slide joints with the URDF ranges, armature, damping and frictionloss, a floor
+/// plane, one torque motor per movable joint (actuator i drives movable_joints()[i], ctrl and force
+/// clamped to the URDF effort), a sole box per foot, and the other links' collision geometry.
+/// Only robot-vs-floor contacts exist (contype/conaffinity bits); every robot geom collides with
+/// the floor, so a non-sole contact means a fall. Visual geometry is not part of the model.
 
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "retarget/core/diagnostics.hpp"
 #include "retarget/core/types.hpp"
 #include "retarget/model/robot_config.hpp"
 
@@ -47,7 +56,9 @@ struct Link {
   Inertial inertial;
   std::vector<Geometry> collisions;
   std::vector<Geometry> visuals;
-  int body = -1;                      ///< MuJoCo body the link belongs to (merged fixed children share their parent's)
+  /// MuJoCo body the link belongs to (merged fixed children share their parent's body). An empty
+  /// URDF root above a floating joint (a "world" link) maps to the world body 0.
+  int body = -1;
   Iso3 X_B_L = Iso3::Identity();      ///< link frame in that body's frame
 };
 
@@ -73,6 +84,7 @@ struct Sole {
   int link = -1;
   Vec3 p_L_center = Vec3::Zero();  ///< [m] centre of the bottom face, foot link frame
   Vec2 size_m = Vec2::Zero();      ///< [m] length (link x), width (link y)
+  int geom = -1;                   ///< MuJoCo geom id of the sole box
   /// Corners of the bottom face in the link frame (counter-clockwise seen from above).
   std::array<Vec3, 4> corners_L() const;
 };
@@ -122,6 +134,19 @@ class RobotModel {
 
   double total_mass_kg() const { return total_mass_kg_; }
   const std::array<Sole, 2>& soles() const { return soles_; }  ///< [0] left, [1] right
+  /// Which foot's sole a MuJoCo geom is: kLeftFoot, kRightFoot, or -1 (floor or other geometry).
+  int sole_side(int geom) const;
+  /// MuJoCo geom id of the floor plane.
+  int floor_geom() const { return floor_geom_; }
+  /// MuJoCo geom groups: sole boxes, and the other (fall-detecting) collision geometry, whose
+  /// names are "col_<link>_<k>".
+  static constexpr int kSoleGeomGroup = 2;
+  static constexpr int kCollisionGeomGroup = 3;
+
+  /// MuJoCo body id of the root link (the body with the free joint).
+  int root_body() const { return root_body_; }
+  /// Link whose frame is the frame of MuJoCo body b (the link that created it), -1 for the world.
+  int body_link(int body) const { return body_links_.at(static_cast<std::size_t>(body)); }
 
   /// Standing configuration (size nq): standing joints from robot.yaml, root upright at the origin
   /// facing +X, root height so the lowest sole touches z = 0 (or robot.yaml's root_height).
@@ -129,9 +154,16 @@ class RobotModel {
   /// COM height of the standing pose [m] (z_c of the balance model).
   double standing_com_height_m() const { return standing_com_height_m_; }
 
+  /// Non-fatal findings of loading (URDF warnings, mimic joints, massless bodies given a tiny
+  /// mass, inertias fixed up, meshes simplified, ...).
+  const Diagnostics& diagnostics() const { return diagnostics_; }
+
   /// The compiled MuJoCo model (owned). Treat as read-only: share it across threads.
+  /// mjModel::qpos0 has the root at the standing height (joints at 0): use standing_q() for the
+  /// full standing pose.
   const mjModel* mj() const { return mj_; }
-  /// The generated MJCF text (meshes referenced by asset names inside the model's VFS).
+  /// The generated MJCF text (meshes referenced by file names of the in-memory VFS it was
+  /// compiled with, so it cannot be reloaded from disk as is).
   const std::string& mjcf() const { return mjcf_; }
 
  private:
@@ -149,6 +181,10 @@ class RobotModel {
   std::array<Sole, 2> soles_;
   VecX standing_q_;
   double standing_com_height_m_ = 0;
+  int floor_geom_ = -1;
+  int root_body_ = -1;
+  std::vector<int> body_links_;
+  Diagnostics diagnostics_;
   mjModel* mj_ = nullptr;
   std::string mjcf_;
 };
