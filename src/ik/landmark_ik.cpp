@@ -39,7 +39,8 @@ LandmarkIk::LandmarkIk(const RobotModel& model, IkOptions options) : model_(&mod
 
 Mat3 LandmarkIk::landmark_frame_in_link(int link) const { return R_L_lm_.at(static_cast<std::size_t>(link)); }
 
-IkResult LandmarkIk::solve(RobotData& data, const std::vector<IkTarget>& targets, const VecX& q_prev, VecX& q) const {
+IkResult LandmarkIk::solve(RobotData& data, const std::vector<IkTarget>& targets, const VecX& q_prev, VecX& q,
+                           const IkComTarget& com) const {
   const RobotModel& model = *model_;
   const mjModel* m = model.mj();
   const int nv = model.nv(), nu = model.nu();
@@ -93,6 +94,16 @@ IkResult LandmarkIk::solve(RobotData& data, const std::vector<IkTarget>& targets
         if (H) accumulate(jr, r, std::sqrt(t.orientation_weight), chain, *H, *g);
       }
     }
+    if (com.weight > 0) {
+      const int rows = com.horizontal_only ? 2 : 3;
+      const Vec3 e = com_position(model, data) - com.p_W;
+      cost += 0.5 * com.weight * e.head(rows).squaredNorm();
+      if (H) {
+        const MatX Jc = com_jacobian(model, data).topRows(rows);
+        H->triangularView<Eigen::Upper>() += com.weight * (Jc.transpose() * Jc);
+        *g += com.weight * Jc.transpose() * e.head(rows);
+      }
+    }
     const VecX d = difference(model, q_prev, x, 1.0);
     cost += 0.5 * reg * d.squaredNorm();
     if (H) {
@@ -106,8 +117,10 @@ IkResult LandmarkIk::solve(RobotData& data, const std::vector<IkTarget>& targets
   problem.step_bounds = [&](const VecX& x, VecX& lower, VecX& upper) {
     lower.resize(nv);
     upper.resize(nv);
-    lower.head<6>().setConstant(-INFINITY);
-    upper.head<6>().setConstant(INFINITY);
+    for (int i = 0; i < 6; ++i) {
+      lower[i] = options_.root_free[static_cast<std::size_t>(i)] ? -INFINITY : 0.0;
+      upper[i] = options_.root_free[static_cast<std::size_t>(i)] ? INFINITY : 0.0;
+    }
     lower.tail(nu) = (lo - x.tail(nu)).cwiseMin(0.0);
     upper.tail(nu) = (hi - x.tail(nu)).cwiseMax(0.0);
   };

@@ -11,6 +11,7 @@
 /// (root at the origin, all joints 0), where every landmark frame is aligned with the world:
 /// x forward, y left, z up (robot configs are written for robots that stand so at q = 0).
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,8 @@ struct IkOptions {
   double cost_tolerance = 1e-2;      ///< stop when a step lowers the cost by less than this fraction
   double regularization = 1e-3;      ///< λ: weight of q ⊖ q_prev relative to a unit landmark weight
   double joint_limit_margin = 1e-4;  ///< [rad] the solution stays this far inside the limits
+  /// Which root coordinates may move (v order: x, y, z, then rotation about the root's x, y, z).
+  std::array<bool, 6> root_free{{true, true, true, true, true, true}};
 };
 
 /// One tracked point (and optionally orientation) for one frame.
@@ -37,6 +40,13 @@ struct IkTarget {
   Mat3 R_L_frame = Mat3::Identity();  ///< landmark frame in the link frame
   Quat R_W = Quat::Identity();     ///< target orientation of the landmark frame in W
   double orientation_weight = 0.0; ///< 0 disables the orientation residual
+};
+
+/// Optional whole-body COM target (the COM-following IK of the com-replan pass).
+struct IkComTarget {
+  Vec3 p_W = Vec3::Zero();  ///< [m] target COM
+  double weight = 0;        ///< 0 disables
+  bool horizontal_only = true;  ///< track x, y only (the balance model's axes)
 };
 
 struct IkResult {
@@ -55,7 +65,8 @@ class LandmarkIk {
 
   /// Solves one frame in place: `q` is the warm start and the result (nq); `q_prev` the
   /// regularisation anchor. Joint values outside the limits in the warm start are clamped first.
-  IkResult solve(RobotData& data, const std::vector<IkTarget>& targets, const VecX& q_prev, VecX& q) const;
+  IkResult solve(RobotData& data, const std::vector<IkTarget>& targets, const VecX& q_prev, VecX& q,
+                 const IkComTarget& com = {}) const;
 
   const IkOptions& options() const { return options_; }
 

@@ -1,0 +1,126 @@
+#pragma once
+/// Tracking controller of paper §IV-B (eq. 2–19): joint torques and contact wrenches minimising a
+/// quadratic cost of COP, acceleration, torque, force and moment errors, in closed form.
+///
+/// Notation (all in the world frame W unless said otherwise):
+///   q̈̂        desired generalised accelerations, eq. (2): feed-forward + PD on the reference
+///   r̈̂        desired accelerations of the foot links (6-D: linear at the sole centre; angular)
+///   q̈̂'       q̈̂ corrected by the foot tasks through J_c⁺, eq. (5)
+///   y = (τ_J, f_c)   unknowns: movable-joint torques and one 6-D wrench (force; moment) per foot in
+///                    contact, applied at that foot's sole centre
+///   q̈(y)     from the equation of motion (6): M q̈ + c = S τ_J + J_fᵀ f_c
+///
+/// Eq. (11) as printed maps (F, N) to N + r_b × F, which vanishes for a COP at −r_b; we use the moment
+/// about the desired COP, N − r_b × F (the same matrix with the sign of r_b flipped).
+
+#include <array>
+#include <vector>
+
+#include "retarget/core/types.hpp"
+#include "retarget/model/robot_data.hpp"
+
+namespace rt {
+
+/// Positive weights of the cost terms (diagonal matrices W_* of eq. 8–17).
+struct TrackingWeights {
+  double root_linear = 1.0;     ///< W_q on root linear acceleration [(m/s²)⁻²]
+  double root_angular = 10.0;   ///< W_q on root angular acceleration [(rad/s²)⁻²]
+  double joint = 1.0;           ///< W_q on joint accelerations [(rad/s²)⁻²]
+  double foot_linear = 10.0;    ///< W_c on swing-foot linear acceleration
+  double foot_angular = 10.0;   ///< W_c on swing-foot angular acceleration
+  /// W_c on the accelerations of feet in contact. High: the closed form then plans accelerations
+  /// that keep the feet still, i.e. consistent with the rigid contact the real floor provides; with a
+  /// low weight the planned contact forces differ from the floor's and the legs sag.
+  double stance_foot = 1000.0;
+  double cop = 10.0;            ///< W_b: moment about the desired COP [(N m)⁻²]
+  double foot_cop = 1.0;        ///< W_p: moment of each foot wrench about its sole centre [(N m)⁻²]
+  double torque = 1e-6;         ///< W_τ [(N m)⁻²]
+  double force = 1e-8;          ///< W_f on contact forces and moments
+  double com_moment = 1e-3;     ///< W_m: total contact moment about the COM [(N m)⁻²]
+};
+
+struct TrackingOptions {
+  double kp = 36.0;  ///< [1/s²] default joint gain of eq. (2) (paper: 36)
+  double kd = 12.0;  ///< [1/s] default joint damping of eq. (2) (paper: 12)
+  VecX kp_joint;     ///< per movable joint (model order); empty = kp everywhere
+  VecX kd_joint;
+  double root_kp = 36.0, root_kd = 12.0;  ///< trunk (root) 6-DOF gains
+  double foot_kp = 36.0, foot_kd = 12.0;  ///< foot link gains (r̈̂)
+  double pinv_damping = 1e-6;  ///< Tikhonov damping of J_c⁺ (legs are assumed non-singular)
+  TrackingWeights weights;
+};
+
+/// Desired state at one control instant (the reference after kinematic mapping).
+struct TrackingReference {
+  VecX q, v, a;  ///< nq, nv, nv
+  /// Desired pose, 6-D velocity and acceleration ([linear at the sole centre; angular], W) of the
+  /// left [0] and right [1] feet. For a foot in stance the caller usually latches its touchdown pose.
+  std::array<Iso3, 2> X_W_sole{{Iso3::Identity(), Iso3::Identity()}};
+  std::array<Vec6, 2> v_sole{{Vec6::Zero(), Vec6::Zero()}};
+  std::array<Vec6, 2> a_sole{{Vec6::Zero(), Vec6::Zero()}};
+  std::array<bool, 2> contact{{true, true}};  ///< feet allowed to exert contact wrenches
+  Vec2 desired_cop_W = Vec2::Zero();          ///< r_b from the balance controller
+};
+
+/// Everything the quadratic form is built from; exposed so that tests can check each term.
+struct TrackingProblem {
+  std::array<bool, 2> contact{{true, true}};  ///< feet in contact (select the W_c weights)
+  std::vector<int> contact_feet;  ///< feet with a wrench in f_c, in order
+  int nu = 0, nf = 0;             ///< sizes of τ_J and f_c
+  VecX qdd_desired;               ///< q̈̂' (nv)
+  std::array<Vec6, 2> rdd_desired;///< r̈̂ per foot
+  MatX J_feet;                    ///< 12 x nv: both feet (eq. 3–5)
+  VecX Jdot_v_feet;               ///< 12
+  MatX J_contact;                 ///< nf x nv: feet in contact
+  MatX M;                         ///< nv x nv
+  VecX bias;                      ///< c (nv)
+  MatX G;                         ///< M⁻¹ [S, J_contactᵀ]  (nv x (nu + nf)):  q̈ = G y + a0
+  VecX a0;                        ///< −M⁻¹ c
+  std::vector<Vec3> r_contact_W;  ///< application points (sole centres) of the contact wrenches
+  Vec3 p_W_com = Vec3::Zero();
+  Vec2 desired_cop_W = Vec2::Zero();
+  MatX P, P_p, V;                 ///< eq. (8)–(11), (16), (17)
+  MatX A;                         ///< eq. (18): Z = ½ yᵀ A y + yᵀ b + const
+  VecX b;
+};
+
+struct TrackingCommand {
+  VecX tau;        ///< movable-joint torques after clamping to effort limits (model order)
+  VecX tau_raw;    ///< before clamping
+  VecX f_contact;  ///< contact wrenches (nf), per contact foot [force; moment] at the sole centre
+  VecX qdd;        ///< q̈ implied by the unclamped solution
+  int saturated_joints = 0;
+};
+
+class TrackingController {
+ public:
+  TrackingController(const RobotModel& model, TrackingOptions options);
+
+  const TrackingOptions& options() const { return options_; }
+
+  /// Builds the problem for measured state (q, v). Updates `data` (the controller's own mjData)
+  /// unless `data_is_current` says the caller already ran update_dynamics(q, v) on it.
+  TrackingProblem build(RobotData& data, const VecXCRef& q, const VecXCRef& v, const TrackingReference& ref,
+                        bool data_is_current = false) const;
+  /// Eq. (19): y = −A⁻¹ b, then clamps torques.
+  TrackingCommand solve(const TrackingProblem& problem) const;
+  TrackingCommand compute(RobotData& data, const VecXCRef& q, const VecXCRef& v, const TrackingReference& ref,
+                          bool data_is_current = false) const {
+    return solve(build(data, q, v, ref, data_is_current));
+  }
+
+  /// Individual cost terms at a candidate y, evaluated directly from their definitions
+  /// (eq. 8, 12–17), for tests and diagnostics: {Z_b, Z_q, Z_c, Z_τ, Z_f, Z_p, Z_m}.
+  std::array<double, 7> cost_terms(const TrackingProblem& problem, const VecX& y) const;
+
+ private:
+  /// Diagonal of W_c for both feet (stance or swing weights).
+  VecX foot_weights(const std::array<bool, 2>& contact) const;
+
+  const RobotModel* model_;
+  TrackingOptions options_;
+  VecX kp_, kd_;       ///< per generalised velocity (nv)
+  VecX w_q_;           ///< diagonal of W_q (nv)
+};
+
+}  // namespace rt

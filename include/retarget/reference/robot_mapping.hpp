@@ -1,0 +1,37 @@
+#pragma once
+/// Bridges a Reference (joint columns by name, any order) and a RobotModel (generalised coordinates
+/// in model order): mapping, per-frame configurations and the forward-kinematics arrays of the NPZ.
+
+#include <vector>
+
+#include "retarget/model/robot_data.hpp"
+#include "retarget/reference/npz_body_arrays.hpp"
+#include "retarget/reference/reference.hpp"
+
+namespace rt {
+
+class ReferenceRobotMap {
+ public:
+  /// Maps every movable joint of the model to a reference column. InputError naming the first
+  /// missing or unknown joint when the reference's joint set differs from the robot's.
+  ReferenceRobotMap(const RobotModel& model, const Reference& reference, const std::string& where);
+
+  /// Generalised configuration q (nq) of frame `frame`.
+  VecX q(const Reference& reference, int frame) const;
+  /// All frames as an nq x T matrix.
+  MatX q_all(const Reference& reference) const;
+
+ private:
+  const RobotModel* model_;
+  std::vector<int> column_of_movable_;  ///< movable joint i (model order) -> reference row
+};
+
+/// A reference that holds configuration `q` (nq) for `duration_s` at `fps`, both feet in contact
+/// (standing tests, benchmarks).
+Reference constant_reference(const RobotModel& model, const VecX& q, double duration_s, double fps);
+
+/// World pose and velocity of every link over a reference (for the NPZ): body 0 is the root link,
+/// then the other links in URDF order; velocities by central differences at the reference rate.
+NpzBodyArrays compute_body_arrays(const RobotModel& model, RobotData& data, const Reference& reference);
+
+}  // namespace rt

@@ -1,0 +1,90 @@
+#pragma once
+/// The dynamics check (design.md §3.5, paper §IV–VII): simulate a reference in MuJoCo through the
+/// balance controller (LQR + observer, eq. 1) and the tracking controller (eq. 2–19), with trunk
+/// mapping (eq. 20–24) and online dynamic mapping (COM re-planning, eq. 25–34), and report every
+/// balance violation with its time span and magnitude.
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "retarget/balance/balance_controller.hpp"
+#include "retarget/balance/com_replanner.hpp"
+#include "retarget/control/tracking_controller.hpp"
+#include "retarget/control/trunk_mapping.hpp"
+#include "retarget/reference/reference.hpp"
+#include "retarget/sim/violations.hpp"
+
+namespace rt {
+
+class RobotModel;
+
+struct DynamicsCheckOptions {
+  double control_period_s = 0.002;  ///< controller period; the simulation step is the robot's timestep (1 ms)
+  double settle_s = 0.5;            ///< [s] holding the first frame before the clip starts (not reported)
+  bool trunk_mapping = true;        ///< paper §V-B
+  bool dynamic_mapping = true;      ///< online COM re-planning (paper §VI); false for ablations
+  BalanceOptions balance;           ///< LQR / observer weights (control_period_s is overridden)
+  TrackingOptions tracking;         ///< gains default to robot.yaml's controller section
+  TrunkMappingOptions trunk;
+  ComReplanOptions replan;          ///< N, period, h_max, w
+
+  // Violation thresholds.
+  double contact_force_fraction = 0.05;  ///< a foot carries load above this fraction of the body weight
+  double contact_tolerance_s = 0.15;     ///< [s] allowed lag between a reference contact change and the robot's
+  double cop_margin_m = 0.01;            ///< [m] COP closer than this to the support edge is reported
+  double slip_speed_mps = 0.10;          ///< [m/s] loaded stance foot faster than this slides
+  double joint_limit_margin_rad = 0.0087;  ///< [rad] (0.5°) closer than this to a limit counts as reached
+  double fall_com_fraction = 0.5;        ///< COM below this fraction of its standing height = fall
+  double fall_tilt_rad = 0.785398163397448;  ///< trunk tilt above this = fall (45°)
+  double min_violation_s = 0.01;         ///< [s] shorter spans of a condition are ignored
+  double record_period_s = 0.01;         ///< [s] sampling of the recorded time series
+};
+
+/// Time series recorded during the run (for report.json and the plots).
+struct DynamicsTrace {
+  std::vector<double> t_s;
+  std::vector<Vec3> com_W;            ///< actual COM
+  std::vector<Vec2> com_ref_W;        ///< reference COM given to the balance controller (after re-planning)
+  std::vector<Vec2> com_ref_original_W;  ///< reference COM before re-planning
+  std::vector<Vec2> cop_W;            ///< measured COP (NaN when nothing touches)
+  std::vector<Vec2> cop_desired_W;    ///< balance controller output
+  std::vector<Vec2> support_min_W, support_max_W;  ///< bounding box of the actual support polygon (NaN when none)
+  std::vector<std::array<bool, 2>> contact_ref, contact_actual;
+  std::vector<std::array<double, 2>> foot_force_n;
+  std::vector<std::array<double, 4>> tracking_error_rad;  ///< RMS joint error: legs, torso (waist+neck), arms, all
+};
+
+struct ReplanRecord {
+  double t_s = 0;
+  ReplanEvent event;
+};
+
+struct DynamicsCheckResult {
+  bool passed = false;          ///< no violation that fails the check
+  bool fell = false;
+  double fall_time_s = -1;
+  double simulated_s = 0;       ///< clip time simulated (the clip duration unless it fell)
+  double clip_duration_s = 0;
+  double wall_s = 0;
+  double real_time_factor = 0;  ///< simulated seconds (settle included) per wall second
+  std::vector<Violation> violations;
+  // Tracking metrics over the clip.
+  double joint_rms_error_rad = 0;
+  double com_rms_error_m = 0, com_max_error_m = 0;  ///< actual vs reference COM (horizontal)
+  double cop_rms_error_m = 0;                       ///< measured vs desired COP
+  int saturated_control_cycles = 0;
+  int trunk_mapping_updates = 0;
+  std::vector<ReplanRecord> replans;                ///< online dynamic-mapping activations
+  DynamicsTrace trace;
+};
+
+/// Runs the check. The reference must match the robot's joints and have a contact schedule (label
+/// contacts first for third-party references). Never prints; InputError for an unusable reference.
+DynamicsCheckResult run_dynamics_check(const RobotModel& model, const Reference& reference,
+                                       const DynamicsCheckOptions& options = {});
+
+/// Default options for a robot: tracking gains from robot.yaml's controller section.
+DynamicsCheckOptions default_check_options(const RobotModel& model);
+
+}  // namespace rt

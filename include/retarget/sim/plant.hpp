@@ -1,0 +1,60 @@
+#pragma once
+/// Plant: the simulated robot of the dynamics check (design.md §3.5) — the RobotModel's generated
+/// MuJoCo model with its own mjData, driven by joint torques through the torque motors, and the
+/// contact quantities the check measures (per-foot normal force and COP, non-sole floor contacts).
+
+#include <array>
+#include <vector>
+
+#include "retarget/core/types.hpp"
+#include "retarget/model/robot_model.hpp"
+
+struct mjData_;
+typedef struct mjData_ mjData;
+
+namespace rt {
+
+struct FootContact {
+  double normal_force_n = 0;  ///< [N] total normal force between the sole and the floor
+  Vec2 cop_W = Vec2::Zero();  ///< [m] this foot's centre of pressure (valid when the force > 0)
+  Vec3 force_W = Vec3::Zero();  ///< [N] total contact force on the foot (floor on robot)
+};
+
+struct ContactState {
+  std::array<FootContact, 2> feet;
+  double normal_force_n = 0;          ///< [N] sum over all floor contacts
+  Vec2 cop_W = Vec2::Zero();          ///< [m] overall COP (valid when normal_force_n > 0)
+  std::vector<int> non_sole_links;    ///< links (other than the soles) touching the floor
+};
+
+class Plant {
+ public:
+  explicit Plant(const RobotModel& model);
+  ~Plant();
+  Plant(const Plant&) = delete;
+  Plant& operator=(const Plant&) = delete;
+
+  /// Sets the state (q: nq, v: nv), zero controls, and computes contacts for it.
+  void reset(const VecX& q, const VecX& v);
+  /// Applies `tau` (nu, model order; clamped by the motors' force ranges) for `steps` simulation
+  /// steps of the model's timestep.
+  void step(const VecX& tau, int steps);
+
+  VecX q() const;
+  VecX v() const;
+  double time_s() const;
+  /// Contact quantities of the current state (from MuJoCo's contact list).
+  ContactState contacts() const;
+  /// MuJoCo flagged a numerical instability (it then resets the state): the run is invalid.
+  bool unstable() const { return unstable_; }
+
+  const RobotModel& model() const { return *model_; }
+  const mjData* mj() const { return d_; }
+
+ private:
+  const RobotModel* model_;
+  mjData* d_;
+  bool unstable_ = false;
+};
+
+}  // namespace rt

@@ -1,0 +1,53 @@
+#pragma once
+/// Balance violations reported by the dynamics check (design.md §3.5), each with a time span and a
+/// magnitude.
+
+#include <string>
+#include <vector>
+
+namespace rt {
+
+enum class ViolationKind {
+  Fall,                ///< non-sole geometry on the floor, COM below half its standing height, or trunk tilt > 45°
+  CopNearEdge,         ///< measured COP within the margin of the support polygon's edge (or outside it)
+  ContactNotAchieved,  ///< the reference puts a foot down, the robot's foot carries no load
+  LiftOffNotAchieved,  ///< the reference lifts a foot, the robot's foot stays loaded
+  FootSlip,            ///< a loaded stance foot slides
+  TorqueSaturation,    ///< a commanded torque exceeded the joint's effort limit (clamped)
+  JointLimit,          ///< a joint reached its position limit
+};
+
+/// "fall", "cop-near-edge", ... (stable names used in report.json and summaries).
+const char* violation_name(ViolationKind kind);
+/// Whether this kind fails the check (exit status 1): falls and unmet contacts.
+bool violation_fails_check(ViolationKind kind);
+
+struct Violation {
+  ViolationKind kind = ViolationKind::Fall;
+  double start_s = 0;     ///< [s] clip time
+  double end_s = 0;       ///< [s] clip time (= start for instantaneous events)
+  double magnitude = 0;   ///< worst value during the span, in `unit`
+  std::string unit;       ///< "m", "m/s", "N", "ratio", "deg", ...
+  std::string detail;     ///< which foot / joint / link, and what was measured
+};
+
+/// Tracks one condition over time and emits a Violation for every span where it held at least
+/// `min_duration_s`.
+class ViolationTracker {
+ public:
+  ViolationTracker(ViolationKind kind, std::string unit, double min_duration_s);
+  /// `active`: the condition at time t; `magnitude`: its size (the worst one is kept).
+  void update(double t_s, bool active, double magnitude, const std::string& detail, std::vector<Violation>& out);
+  /// Ends an open span at t (end of the run).
+  void finish(double t_s, std::vector<Violation>& out);
+
+ private:
+  ViolationKind kind_;
+  std::string unit_;
+  double min_duration_s_;
+  bool active_ = false;
+  double start_ = 0, worst_ = 0, last_ = 0;
+  std::string detail_;
+};
+
+}  // namespace rt

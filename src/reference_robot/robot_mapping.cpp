@@ -1,0 +1,103 @@
+#include "retarget/reference/robot_mapping.hpp"
+
+#include <cmath>
+#include <map>
+
+#include "retarget/core/error.hpp"
+#include "retarget/model/kinematics.hpp"
+#include "retarget/model/robot_model.hpp"
+
+namespace rt {
+
+ReferenceRobotMap::ReferenceRobotMap(const RobotModel& model, const Reference& ref, const std::string& where)
+    : model_(&model) {
+  std::map<std::string, int> row;
+  for (std::size_t i = 0; i < ref.joint_names.size(); ++i) row[ref.joint_names[i]] = static_cast<int>(i);
+  if (static_cast<int>(ref.joint_names.size()) != model.nu())
+    throw InputError(where, "the reference has " + std::to_string(ref.joint_names.size()) + " joints, robot '" +
+                                model.name() + "' has " + std::to_string(model.nu()));
+  column_of_movable_.resize(static_cast<std::size_t>(model.nu()));
+  for (int i = 0; i < model.nu(); ++i) {
+    const std::string& name = model.joints()[static_cast<std::size_t>(model.movable_joints()[static_cast<std::size_t>(i)])].name;
+    const auto it = row.find(name);
+    if (it == row.end())
+      throw InputError(where, "robot '" + model.name() + "' joint '" + name + "' is not in the reference");
+    column_of_movable_[static_cast<std::size_t>(i)] = it->second;
+  }
+}
+
+VecX ReferenceRobotMap::q(const Reference& ref, int frame) const {
+  VecX q(model_->nq());
+  q.head<3>() = ref.root_pos_W.col(frame);
+  const Quat& r = ref.root_quat_W[static_cast<std::size_t>(frame)];
+  q.segment<4>(3) << r.w(), r.x(), r.y(), r.z();
+  for (int i = 0; i < model_->nu(); ++i) q[7 + i] = ref.joint_pos(column_of_movable_[static_cast<std::size_t>(i)], frame);
+  return q;
+}
+
+MatX ReferenceRobotMap::q_all(const Reference& ref) const {
+  MatX out(model_->nq(), ref.num_frames());
+  for (int f = 0; f < ref.num_frames(); ++f) out.col(f) = q(ref, f);
+  return out;
+}
+
+Reference constant_reference(const RobotModel& model, const VecX& q, double duration_s, double fps) {
+  RT_DEMAND(q.size() == model.nq() && fps > 0 && duration_s >= 0, "constant_reference: bad arguments");
+  const int T = static_cast<int>(std::floor(duration_s * fps + 1e-9)) + 1;
+  Reference ref;
+  ref.robot_name = model.name();
+  ref.fps = fps;
+  for (int k : model.export_joint_order())
+    ref.joint_names.push_back(model.joints()[static_cast<std::size_t>(model.movable_joints()[static_cast<std::size_t>(k)])].name);
+  ref.root_pos_W = q.head<3>().replicate(1, T);
+  ref.root_quat_W.assign(static_cast<std::size_t>(T), Quat(q[3], q[4], q[5], q[6]).normalized());
+  ref.joint_pos.resize(static_cast<Eigen::Index>(ref.joint_names.size()), T);
+  for (std::size_t c = 0; c < ref.joint_names.size(); ++c)
+    ref.joint_pos.row(static_cast<Eigen::Index>(c)).setConstant(q[7 + model.export_joint_order()[c]]);
+  for (auto& c : ref.contact) c.assign(static_cast<std::size_t>(T), 1);
+  return ref;
+}
+
+NpzBodyArrays compute_body_arrays(const RobotModel& model, RobotData& data, const Reference& ref) {
+  const ReferenceRobotMap map(model, ref, "reference");
+  const int T = ref.num_frames();
+  std::vector<int> links = {model.root_link()};
+  for (int l = 0; l < static_cast<int>(model.links().size()); ++l)
+    if (l != model.root_link()) links.push_back(l);
+  NpzBodyArrays b;
+  const std::size_t B = links.size();
+  b.p_W_body.assign(B, Mat3X(3, T));
+  b.q_W_body.assign(B, std::vector<Quat>(static_cast<std::size_t>(T)));
+  b.v_W_body.assign(B, Mat3X(3, T));
+  b.w_W_body.assign(B, Mat3X(3, T));
+  for (int l : links) b.body_names.push_back(model.links()[static_cast<std::size_t>(l)].name);
+  for (int f = 0; f < T; ++f) {
+    update_kinematics(model, data, map.q(ref, f));
+    for (std::size_t k = 0; k < B; ++k) {
+      const Iso3 X = link_pose(model, data, links[k]);
+      b.p_W_body[k].col(f) = X.translation();
+      Quat q(X.linear());
+      q.normalize();
+      // Keep each body's quaternion sign continuous over time.
+      if (f > 0 && q.coeffs().dot(b.q_W_body[k][static_cast<std::size_t>(f - 1)].coeffs()) < 0) q.coeffs() *= -1;
+      b.q_W_body[k][static_cast<std::size_t>(f)] = q;
+    }
+  }
+  for (std::size_t k = 0; k < B; ++k) {
+    for (int f = 0; f < T; ++f) {
+      const int a = std::max(0, f - 1), c = std::min(T - 1, f + 1);
+      if (c == a) {
+        b.v_W_body[k].col(f).setZero();
+        b.w_W_body[k].col(f).setZero();
+        continue;
+      }
+      const double dt = (c - a) / ref.fps;
+      b.v_W_body[k].col(f) = (b.p_W_body[k].col(c) - b.p_W_body[k].col(a)) / dt;
+      const AngleAxis d(b.q_W_body[k][static_cast<std::size_t>(c)] * b.q_W_body[k][static_cast<std::size_t>(a)].inverse());
+      b.w_W_body[k].col(f) = d.angle() * d.axis() / dt;
+    }
+  }
+  return b;
+}
+
+}  // namespace rt

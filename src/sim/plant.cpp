@@ -1,0 +1,82 @@
+#include "retarget/sim/plant.hpp"
+
+#include <mujoco/mujoco.h>
+
+#include "retarget/core/error.hpp"
+
+namespace rt {
+
+Plant::Plant(const RobotModel& model) : model_(&model), d_(mj_makeData(model.mj())) {
+  if (!d_) throw InternalError("Plant: mj_makeData failed");
+}
+
+Plant::~Plant() { mj_deleteData(d_); }
+
+void Plant::reset(const VecX& q, const VecX& v) {
+  const mjModel* m = model_->mj();
+  RT_DEMAND(q.size() == m->nq && v.size() == m->nv, "Plant::reset: state size");
+  mj_resetData(m, d_);
+  mju_copy(d_->qpos, q.data(), m->nq);
+  mju_copy(d_->qvel, v.data(), m->nv);
+  mju_zero(d_->ctrl, m->nu);
+  mj_forward(m, d_);
+  unstable_ = false;
+}
+
+void Plant::step(const VecX& tau, int steps) {
+  const mjModel* m = model_->mj();
+  RT_DEMAND(tau.size() == m->nu, "Plant::step: torque size");
+  mju_copy(d_->ctrl, tau.data(), m->nu);
+  for (int i = 0; i < steps; ++i) {
+    mj_step(m, d_);
+    if (d_->warning[mjWARN_BADQACC].number > 0) unstable_ = true;
+  }
+}
+
+VecX Plant::q() const { return Eigen::Map<const VecX>(d_->qpos, model_->mj()->nq); }
+VecX Plant::v() const { return Eigen::Map<const VecX>(d_->qvel, model_->mj()->nv); }
+double Plant::time_s() const { return d_->time; }
+
+ContactState Plant::contacts() const {
+  const mjModel* m = model_->mj();
+  ContactState s;
+  Vec3 moment_sum = Vec3::Zero();
+  std::array<Vec2, 2> foot_moment{{Vec2::Zero(), Vec2::Zero()}};
+  for (int i = 0; i < d_->ncon; ++i) {
+    const mjContact& c = d_->contact[i];
+    const int floor = model_->floor_geom();
+    if (c.geom1 != floor && c.geom2 != floor) continue;
+    const int robot_geom = c.geom1 == floor ? c.geom2 : c.geom1;
+    mjtNum f6[6];
+    mj_contactForce(m, d_, i, f6);
+    // Contact frame rows: normal, tangent 1, tangent 2. The force acts on geom2 from geom1; flip so
+    // it is the floor's force on the robot.
+    Vec3 f_W = Vec3::Zero();
+    for (int r = 0; r < 3; ++r)
+      for (int k = 0; k < 3; ++k) f_W[k] += c.frame[3 * r + k] * f6[r];
+    if (c.geom2 == floor) f_W = -f_W;
+    const double fn = std::max(0.0, f_W.z());
+    const Vec3 p(c.pos[0], c.pos[1], c.pos[2]);
+    const int side = model_->sole_side(robot_geom);
+    if (side >= 0) {
+      FootContact& fc = s.feet[static_cast<std::size_t>(side)];
+      fc.normal_force_n += fn;
+      fc.force_W += f_W;
+      foot_moment[static_cast<std::size_t>(side)] += fn * p.head<2>();
+    } else {
+      const int link = model_->body_link(m->geom_bodyid[robot_geom]);
+      if (std::find(s.non_sole_links.begin(), s.non_sole_links.end(), link) == s.non_sole_links.end())
+        s.non_sole_links.push_back(link);
+    }
+    s.normal_force_n += fn;
+    moment_sum.head<2>() += fn * p.head<2>();
+  }
+  for (int side = 0; side < 2; ++side) {
+    FootContact& fc = s.feet[static_cast<std::size_t>(side)];
+    if (fc.normal_force_n > 1e-9) fc.cop_W = foot_moment[static_cast<std::size_t>(side)] / fc.normal_force_n;
+  }
+  if (s.normal_force_n > 1e-9) s.cop_W = moment_sum.head<2>() / s.normal_force_n;
+  return s;
+}
+
+}  // namespace rt

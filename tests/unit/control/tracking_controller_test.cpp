@@ -1,0 +1,125 @@
+#include "retarget/control/tracking_controller.hpp"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "retarget/model/kinematics.hpp"
+#include "retarget/model/robot_model.hpp"
+#include "support/test_paths.hpp"
+
+namespace rt {
+namespace {
+
+struct Fixture {
+  std::unique_ptr<RobotModel> model = RobotModel::load(test::source_path("robots/humanoid25"));
+  RobotData data{*model};
+
+  // A moving state near standing, and a reference slightly away from it.
+  std::pair<VecX, VecX> state(unsigned seed) {
+    std::mt19937 rng(seed);
+    std::normal_distribution<double> n(0.0, 1.0);
+    VecX q = model->standing_q();
+    for (int i = 7; i < model->nq(); ++i) q[i] += 0.05 * n(rng);
+    VecX v(model->nv());
+    for (int i = 0; i < model->nv(); ++i) v[i] = 0.3 * n(rng);
+    return {q, v};
+  }
+
+  TrackingReference reference(const VecX& q, bool left, bool right) {
+    TrackingReference ref;
+    ref.q = model->standing_q();
+    ref.v = VecX::Zero(model->nv());
+    ref.a = VecX::Zero(model->nv());
+    update_kinematics(*model, data, q);
+    for (int foot = 0; foot < 2; ++foot) {
+      const Sole& s = model->soles()[static_cast<std::size_t>(foot)];
+      Iso3 X = link_pose(*model, data, s.link);
+      X.translation() = X * s.p_L_center + Vec3(0.01, 0, 0);
+      ref.X_W_sole[static_cast<std::size_t>(foot)] = X;
+    }
+    ref.contact = {left, right};
+    ref.desired_cop_W = Vec2(0.02, 0.03);
+    return ref;
+  }
+};
+
+double total(const std::array<double, 7>& z) {
+  double s = 0;
+  for (double v : z) s += v;
+  return s;
+}
+
+TEST(TrackingController, QuadraticFormMatchesTheDirectTerms) {
+  Fixture fx;
+  const TrackingController tc(*fx.model, TrackingOptions{});
+  for (unsigned seed : {1u, 2u, 3u}) {
+    const auto [q, v] = fx.state(seed);
+    for (auto [l, r] : {std::pair{true, true}, std::pair{true, false}, std::pair{false, false}}) {
+      const TrackingProblem p = tc.build(fx.data, q, v, fx.reference(q, l, r));
+      const Eigen::Index ny = p.nu + p.nf;
+      ASSERT_EQ(p.A.rows(), ny);
+      std::mt19937 rng(seed);
+      std::normal_distribution<double> n(0.0, 1.0);
+      // Z(y) − Z(0) from the quadratic form must equal the sum of the terms evaluated directly.
+      const double z0 = total(tc.cost_terms(p, VecX::Zero(ny)));
+      for (int trial = 0; trial < 3; ++trial) {
+        VecX y(ny);
+        for (Eigen::Index i = 0; i < ny; ++i) y[i] = (i < p.nu ? 20.0 : 100.0) * n(rng);
+        const double quad = 0.5 * y.dot(p.A * y) + y.dot(p.b);
+        const double direct = total(tc.cost_terms(p, y)) - z0;
+        EXPECT_NEAR(quad, direct, 1e-6 * std::max(1.0, std::abs(direct)));
+      }
+    }
+  }
+}
+
+TEST(TrackingController, SolutionIsTheMinimumAndSatisfiesTheEquationOfMotion) {
+  Fixture fx;
+  TrackingOptions o;
+  const TrackingController tc(*fx.model, o);
+  const auto [q, v] = fx.state(7);
+  const TrackingProblem p = tc.build(fx.data, q, v, fx.reference(q, true, true));
+  const TrackingCommand c = tc.solve(p);
+  VecX y(p.nu + p.nf);
+  y << c.tau_raw, c.f_contact;
+  // Stationary: A y + b = 0, and every perturbation raises the directly evaluated cost.
+  EXPECT_LT((p.A * y + p.b).norm(), 1e-6 * std::max(1.0, p.b.norm()));
+  const double z = total(tc.cost_terms(p, y));
+  std::mt19937 rng(3);
+  std::normal_distribution<double> n(0.0, 1.0);
+  for (int trial = 0; trial < 10; ++trial) {
+    VecX d(y.size());
+    for (Eigen::Index i = 0; i < d.size(); ++i) d[i] = n(rng);
+    EXPECT_GE(total(tc.cost_terms(p, y + 1e-3 * d)), z - 1e-9);
+  }
+  // Eq. (6): M q̈ + c = S τ + J_fᵀ f with the q̈ the controller reports.
+  VecX rhs = p.J_contact.transpose() * c.f_contact;
+  rhs.tail(p.nu) += c.tau_raw;
+  EXPECT_LT((p.M * c.qdd + p.bias - rhs).norm(), 1e-8 * std::max(1.0, rhs.norm()));
+}
+
+TEST(TrackingController, StandingNeedsSupportForcesEqualToWeight) {
+  Fixture fx;
+  const TrackingController tc(*fx.model, TrackingOptions{});
+  const VecX q = fx.model->standing_q();
+  const VecX v = VecX::Zero(fx.model->nv());
+  TrackingReference ref = fx.reference(q, true, true);
+  ref.X_W_sole = {};  // hold the feet where they are
+  update_kinematics(*fx.model, fx.data, q);
+  for (int foot = 0; foot < 2; ++foot) {
+    const Sole& s = fx.model->soles()[static_cast<std::size_t>(foot)];
+    Iso3 X = link_pose(*fx.model, fx.data, s.link);
+    X.translation() = X * s.p_L_center;
+    ref.X_W_sole[static_cast<std::size_t>(foot)] = X;
+  }
+  ref.desired_cop_W = com_position(*fx.model, fx.data).head<2>();
+  const TrackingCommand c = tc.compute(fx.data, q, v, ref);
+  const double weight = fx.model->total_mass_kg() * 9.81;
+  const double fz = c.f_contact[2] + c.f_contact[8];
+  EXPECT_NEAR(fz, weight, 0.05 * weight);
+  EXPECT_EQ(c.saturated_joints, 0);
+}
+
+}  // namespace
+}  // namespace rt
