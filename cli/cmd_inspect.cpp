@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 
 #include <cmath>
+#include <filesystem>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -12,6 +13,7 @@
 #include "cli/exit_codes.hpp"
 #include "retarget/core/strings.hpp"
 #include "retarget/model/robot_model.hpp"
+#include "retarget/motion/load_motion.hpp"
 
 namespace rt::cli {
 
@@ -20,7 +22,57 @@ namespace {
 struct InspectOptions {
   std::string target;
   std::vector<std::string> package_paths;
+  MotionLoadOptions motion;
+  std::string source_units, up_axis;
+  double source_fps = 0;
+  bool keep_tpose = false;
 };
+
+// A robot is a name, a folder or a .yaml; anything else that is a file is a motion clip.
+bool is_clip(const std::string& target) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(target, ec)) return false;
+  const std::string lower = to_lower(target);
+  return !ends_with(lower, ".yaml") && !ends_with(lower, ".yml");
+}
+
+int inspect_clip(InspectOptions o) {
+  if (!o.source_units.empty()) o.motion.source_units = o.source_units;
+  if (o.source_fps > 0) o.motion.source_fps = o.source_fps;
+  if (!o.up_axis.empty()) o.motion.up_axis = o.up_axis;
+  o.motion.drop_tpose = !o.keep_tpose;
+  const HumanMotion m = load_motion(o.target, o.motion);
+  const MotionSourceInfo& s = m.source;
+  std::cout << "clip " << s.path << "\n";
+  std::cout << format("  format        %s, profile %s\n", s.format.c_str(), s.profile.c_str());
+  std::cout << format("  frames        %d used of %d in the file (%d synthetic T-pose frame(s) dropped)\n", m.num_frames,
+                      s.file_frames, s.dropped_leading_frames);
+  std::cout << format("  rate          %g Hz (file: %g Hz)%s; duration %.2f s\n", m.fps, s.file_fps,
+                      std::abs(m.fps - s.file_fps) > 1e-9 ? " overridden" : "", m.duration_s());
+  std::cout << format("  units         %s (%g m per unit)%s\n", s.units.c_str(), s.metres_per_unit,
+                      s.units_overridden ? ", overridden" : ", detected");
+  std::cout << format("  up axis       %c%s\n", s.up_axis, s.up_axis_overridden ? ", overridden" : ", detected");
+  std::cout << format("  floor height  %.3f m in the source (moved to z = 0)\n", s.floor_height_m);
+  for (const auto& [key, value] : s.details) std::cout << format("  %-13s %s\n", key.c_str(), value.c_str());
+  std::vector<std::string> found, missing;
+  for (Landmark l : all_landmarks()) {
+    const LandmarkTrack& t = m[l];
+    if (!t.present) {
+      missing.push_back(std::string(landmark_name(l)));
+      continue;
+    }
+    int valid = 0;
+    for (int f = 0; f < m.num_frames; ++f) valid += t.valid(f);
+    std::string entry = std::string(landmark_name(l));
+    if (valid < m.num_frames) entry += format(" (%d%% valid)", m.num_frames ? 100 * valid / m.num_frames : 0);
+    if (t.has_orientation) entry += " +orientation";
+    found.push_back(entry);
+  }
+  std::cout << "  landmarks     " << found.size() << " found: " << join(found, ", ") << "\n";
+  if (!missing.empty()) std::cout << "  missing       " << join(missing, ", ") << "\n";
+  for (const Diagnostic& d : m.diagnostics.items()) std::cout << "  " << d.to_string() << "\n";
+  return kExitOk;
+}
 
 const char* joint_type_name(JointType t) {
   switch (t) {
@@ -76,11 +128,17 @@ int inspect_robot(const InspectOptions& o) {
 
 Command setup_inspect(CLI::App& parent) {
   auto opts = std::make_shared<InspectOptions>();
-  CLI::App* app = parent.add_subcommand("inspect", "Print what retarget reads from a robot (name, folder or robot.yaml)");
-  app->add_option("target", opts->target, "Robot: a name in robots/, a folder or a robot.yaml")->required();
+  CLI::App* app = parent.add_subcommand(
+      "inspect", "Print what retarget reads from a robot (name, folder or robot.yaml) or a motion clip (.bvh, .c3d)");
+  app->add_option("target", opts->target, "Robot (a name in robots/, a folder or a robot.yaml) or a BVH/C3D clip")->required();
+  app->add_option("--source-units", opts->source_units, "Clip: override the detected units (m, cm, mm, inch, cmu or metres per unit)");
+  app->add_option("--source-fps", opts->source_fps, "Clip: override the frame rate [Hz]")->check(CLI::PositiveNumber);
+  app->add_option("--up-axis", opts->up_axis, "Clip: override the detected up axis (x, y, z, -y, ...)");
+  app->add_option("--skeleton-profile,--marker-map", opts->motion.profile_path, "Clip: YAML landmark map for the skeleton / markers");
+  app->add_flag("--keep-tpose", opts->keep_tpose, "Clip: keep a synthetic T-pose at the start");
   app->add_option("--package-path", opts->package_paths,
                   "Extra root folder for package:// URIs (repeatable; searched before robot.yaml's and ROS_PACKAGE_PATH)");
-  return {app, [opts] { return inspect_robot(*opts); }};
+  return {app, [opts] { return is_clip(opts->target) ? inspect_clip(*opts) : inspect_robot(*opts); }};
 }
 
 }  // namespace rt::cli

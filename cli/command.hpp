@@ -16,5 +16,7 @@ struct Command {
 };
 
 Command setup_inspect(CLI::App& parent);
+Command setup_convert(CLI::App& parent);
+Command setup_validate(CLI::App& parent);
 
 }  // namespace rt::cli

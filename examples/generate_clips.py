@@ -5,7 +5,7 @@ authored by the project, used by the README's main command, tests and golden fil
   foot_lift.bvh   stand, shift the weight towards the left foot, lift the right foot for
                   t in [1.0, 2.0) s, put it down, stand (the paper's Fig. 7 motion, done the way a
                   person does it: with a modest weight shift of their own)
-  slow_steps.bvh  stand, then four slow steps (step-to gait: the right foot steps 0.25 m forward,
+  slow_steps.bvh  stand, then four slow steps (step-to gait: the right foot steps 0.18 m forward,
                   the left joins it, twice), the weight shifted over the stance foot before every
                   lift, then stand
   stand.bvh       3 s of quiet standing
@@ -109,7 +109,7 @@ def frame_channels(pelvis, feet, spine_lean=0.0, arm_swing=0.0):
 
 
 def stand_height():
-    return PELVIS_H - 3.0   # knees slightly bent
+    return PELVIS_H - 5.0   # knees bent a little, so the trailing leg never straightens during a step
 
 
 def foot_lift(t):
@@ -123,21 +123,21 @@ def foot_lift(t):
 def slow_steps_plan():
     """Phases (t0, t1, pelvis_end (x, z), swing foot or None, swing target z). The pelvis moves
     smoothly from where the previous phase left it; feet only move while swinging."""
-    step, t = 25.0, 1.0
+    step, t = 18.0, 1.0
     feet_z = {"Left": 0.0, "Right": 0.0}
     feet_x = {"Left": HIP_X, "Right": -HIP_X}
     phases = []
     for swing in ["Right", "Left", "Right", "Left"]:
         stance = "Left" if swing == "Right" else "Right"
-        over_stance = (0.6 * feet_x[stance], feet_z[stance])
-        phases.append((t, t + 0.8, over_stance, None, None))                     # weight shift
+        over_stance = (0.9 * feet_x[stance], feet_z[stance])
+        phases.append((t, t + 1.2, over_stance, None, None))                     # weight shift
         target = feet_z[swing] + step if feet_z[swing] <= feet_z[stance] else feet_z[stance]
         target = max(target, feet_z[stance])
-        phases.append((t + 0.8, t + 2.0, over_stance, swing, target))           # single support
+        phases.append((t + 1.2, t + 2.4, over_stance, swing, target))           # single support
         feet_z[swing] = target
-        t += 2.0
-    phases.append((t, t + 0.8, (0.0, 0.5 * (feet_z["Left"] + feet_z["Right"])), None, None))
-    return phases, t + 1.8
+        t += 2.4
+    phases.append((t, t + 1.2, (0.0, 0.5 * (feet_z["Left"] + feet_z["Right"])), None, None))
+    return phases, t + 2.2
 
 
 def slow_steps(t, phases):

@@ -58,6 +58,37 @@ Reference constant_reference(const RobotModel& model, const VecX& q, double dura
   return ref;
 }
 
+Reference retime_reference(const Reference& in, double S) {
+  if (!(S >= 0.05 && S <= 20)) throw InputError("--time-scale", "must be in [0.05, 20], got " + std::to_string(S));
+  const int T = in.num_frames();
+  if (S == 1.0 || T < 2) return in;
+  const int T_out = static_cast<int>(std::floor((T - 1) * S + 1e-9)) + 1;
+  Reference out = in;
+  out.root_pos_W.resize(3, T_out);
+  out.root_quat_W.resize(static_cast<std::size_t>(T_out));
+  out.joint_pos.resize(in.joint_pos.rows(), T_out);
+  for (auto& c : out.contact)
+    if (!c.empty()) c.resize(static_cast<std::size_t>(T_out));
+  if (in.com_W.cols() == T) out.com_W.resize(3, T_out);
+  if (in.cop_W.cols() == T) out.cop_W.resize(2, T_out);
+  for (int k = 0; k < T_out; ++k) {
+    const double s = std::min(k / S, static_cast<double>(T - 1));
+    const int i = std::min(static_cast<int>(s), T - 1), j = std::min(i + 1, T - 1);
+    const double w = s - i;
+    out.root_pos_W.col(k) = (1 - w) * in.root_pos_W.col(i) + w * in.root_pos_W.col(j);
+    out.root_quat_W[static_cast<std::size_t>(k)] =
+        in.root_quat_W[static_cast<std::size_t>(i)].slerp(w, in.root_quat_W[static_cast<std::size_t>(j)]).normalized();
+    out.joint_pos.col(k) = (1 - w) * in.joint_pos.col(i) + w * in.joint_pos.col(j);
+    const std::size_t nearest = static_cast<std::size_t>(w < 0.5 ? i : j);
+    for (int foot = 0; foot < 2; ++foot)
+      if (!in.contact[static_cast<std::size_t>(foot)].empty())
+        out.contact[static_cast<std::size_t>(foot)][static_cast<std::size_t>(k)] = in.contact[static_cast<std::size_t>(foot)][nearest];
+    if (out.com_W.cols() == T_out) out.com_W.col(k) = (1 - w) * in.com_W.col(i) + w * in.com_W.col(j);
+    if (out.cop_W.cols() == T_out) out.cop_W.col(k) = (1 - w) * in.cop_W.col(i) + w * in.cop_W.col(j);
+  }
+  return out;
+}
+
 NpzBodyArrays compute_body_arrays(const RobotModel& model, RobotData& data, const Reference& ref) {
   const ReferenceRobotMap map(model, ref, "reference");
   const int T = ref.num_frames();

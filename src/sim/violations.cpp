@@ -17,6 +17,17 @@ const char* violation_name(ViolationKind kind) {
   return "?";
 }
 
+bool violation_kind_from_name(const std::string& name, ViolationKind& kind) {
+  for (ViolationKind k : {ViolationKind::Fall, ViolationKind::CopNearEdge, ViolationKind::ContactNotAchieved,
+                          ViolationKind::LiftOffNotAchieved, ViolationKind::FootSlip, ViolationKind::TorqueSaturation,
+                          ViolationKind::JointLimit})
+    if (name == violation_name(k)) {
+      kind = k;
+      return true;
+    }
+  return false;
+}
+
 bool violation_fails_check(ViolationKind kind) {
   return kind == ViolationKind::Fall || kind == ViolationKind::ContactNotAchieved ||
          kind == ViolationKind::LiftOffNotAchieved;

@@ -30,6 +30,11 @@ class ReferenceRobotMap {
 /// (standing tests, benchmarks).
 Reference constant_reference(const RobotModel& model, const VecX& q, double duration_s, double fps);
 
+/// The reference played `time_scale` times slower (> 1) or faster (< 1) at the same frame rate:
+/// positions and joints interpolated linearly, root orientation by slerp, contacts from the nearest
+/// frame, COM/COP linearly. Provenance (extra_meta_json) is kept.
+Reference retime_reference(const Reference& reference, double time_scale);
+
 /// World pose and velocity of every link over a reference (for the NPZ): body 0 is the root link,
 /// then the other links in URDF order; velocities by central differences at the reference rate.
 NpzBodyArrays compute_body_arrays(const RobotModel& model, RobotData& data, const Reference& reference);

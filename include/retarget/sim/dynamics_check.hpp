@@ -71,11 +71,17 @@ struct DynamicsCheckResult {
   std::vector<Violation> violations;
   // Tracking metrics over the clip.
   double joint_rms_error_rad = 0;
-  double com_rms_error_m = 0, com_max_error_m = 0;  ///< actual vs reference COM (horizontal)
+  /// Actual COM vs the reference motion's COM (horizontal, trunk-mapped, before re-planning): how far
+  /// balancing moved the robot away from the reference.
+  double com_rms_error_m = 0, com_max_error_m = 0;
   double cop_rms_error_m = 0;                       ///< measured vs desired COP
   int saturated_control_cycles = 0;
   int trunk_mapping_updates = 0;
   std::vector<ReplanRecord> replans;                ///< online dynamic-mapping activations
+  /// Cost of the online planner (benchmarks): wall time spent in it and in the whole control loop
+  /// from its first activation on, and the control cycles in that span.
+  double planner_wall_s = 0, active_loop_wall_s = 0;
+  long active_cycles = 0;
   DynamicsTrace trace;
 };
 

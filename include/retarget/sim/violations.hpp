@@ -19,6 +19,8 @@ enum class ViolationKind {
 
 /// "fall", "cop-near-edge", ... (stable names used in report.json and summaries).
 const char* violation_name(ViolationKind kind);
+/// Inverse of violation_name: the kind named `name`; false when no kind has that name.
+bool violation_kind_from_name(const std::string& name, ViolationKind& kind);
 /// Whether this kind fails the check (exit status 1): falls and unmet contacts.
 bool violation_fails_check(ViolationKind kind);
 

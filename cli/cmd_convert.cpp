@@ -1,0 +1,134 @@
+// retarget convert: one clip in, one robot reference out, with a summary of what was changed.
+
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+
+#include "cli/command.hpp"
+#include "cli/exit_codes.hpp"
+#include "retarget/core/error.hpp"
+#include "retarget/core/file_io.hpp"
+#include "retarget/core/strings.hpp"
+#include "retarget/jobs/convert_job.hpp"
+#include "retarget/model/robot_model.hpp"
+#include "retarget/passes/registry.hpp"
+
+namespace rt::cli {
+
+namespace {
+
+struct ConvertOptions {
+  ConvertRequest request;
+  std::string robot;
+  std::vector<std::string> package_paths;
+  std::string formats = "csv";
+  std::string source_units, up_axis;
+  double source_fps = 0;
+  double time_scale = 1.0;
+  bool keep_tpose = false;
+  bool verbose = false;
+  bool list_passes = false;
+  std::vector<std::string> disabled;  // filled from the --no-<pass> flags
+};
+
+void print_pass_list() {
+  for (const PassInfo& info : builtin_passes()) {
+    const auto pass = info.make();
+    std::cout << info.name << (info.in_default_pipeline ? "" : " (not in the default pipeline)") << "\n    "
+              << info.description << "\n";
+    for (const auto& e : pass->options().entries())
+      std::cout << format("      %-24s %-10s %s\n", e.name.c_str(), e.get().c_str(), e.doc.c_str());
+  }
+}
+
+void print_summary(const ConvertResult& r, bool verbose) {
+  const HumanMotion& h = r.clip.human;
+  const Reference& ref = r.clip.reference;
+  const QualityMetrics& q = r.quality;
+  std::cout << format("%s -> %s: %d frames at %g Hz (%.2f s)", base_name(h.source.path).c_str(),
+                      ref.robot_name.c_str(), h.num_frames, h.fps, h.duration_s());
+  if (ref.num_frames() > 0) std::cout << format(" -> %d frames at %g Hz", ref.num_frames(), ref.fps);
+  std::cout << "\n";
+  std::cout << format("  source      %s, profile %s, units %s, up axis %c, floor at %.3f m", h.source.format.c_str(),
+                      h.source.profile.c_str(), h.source.units.c_str(), h.source.up_axis, h.source.floor_height_m);
+  if (h.source.dropped_leading_frames) std::cout << format(", %d T-pose frame(s) dropped", h.source.dropped_leading_frames);
+  std::cout << "\n";
+  for (const PassRecord& p : r.passes)
+    if (p.name == "scale")
+      std::cout << format("  scale       leg ratio %.3f (robot leg %.3f m / human leg %.3f m)\n",
+                          p.statistics.get("leg-ratio"), p.statistics.get("robot-leg-length"),
+                          p.statistics.get("human-leg-length"));
+  std::cout << format("  landmarks   error median %.3f m, p95 %.3f m (worst: %s)\n", q.landmark_error_median_m,
+                      q.landmark_error_p95_m, q.worst_landmark.c_str());
+  std::cout << format("  feet        skating p95 %.4f m, penetration %.4f m; frame 0: tilt %.2f deg, height %.4f m\n",
+                      q.foot_skating_p95_m, q.penetration_max_m, q.frame0_sole_tilt_deg, q.frame0_sole_height_m);
+  std::cout << format("  limits      %d position violations, %d velocity violations (fastest joint at %.2fx its limit)\n",
+                      q.position_limit_violations, q.velocity_limit_violations, q.max_velocity_ratio);
+  std::cout << format("  jitter      %.1f rad/s^3 (per-frame IK: %.1f rad/s^3)\n", q.jitter_rad_s3,
+                      q.jitter_per_frame_ik_rad_s3);
+  std::string times;
+  for (const PassRecord& p : r.passes) times += format("%s%s %.1f ms", times.empty() ? "" : ", ", p.name.c_str(), p.time_ms);
+  std::cout << format("  time        load %.1f ms; %s; total %.1f ms\n", r.load_ms, times.c_str(), r.total_ms);
+  if (!r.written.empty()) std::cout << "  wrote       " << join(r.written, ", ") << "\n";
+  if (verbose) {
+    std::cout << "\npipeline: " << r.pipeline << "\n";
+    for (const PassRecord& p : r.passes) {
+      std::cout << format("  %-16s %9.2f ms\n", p.name.c_str(), p.time_ms);
+      for (const Statistic& s : p.statistics.items())
+        std::cout << format("      (S) %-28s %12.6g %-7s %s\n", s.name.c_str(), s.value, s.unit.c_str(), s.note.c_str());
+    }
+  }
+  for (const Diagnostic& d : h.diagnostics.items()) std::cerr << d.to_string() << "\n";
+  for (const Diagnostic& d : r.clip.diagnostics.items()) std::cerr << d.to_string() << "\n";
+}
+
+}  // namespace
+
+Command setup_convert(CLI::App& parent) {
+  auto o = std::make_shared<ConvertOptions>();
+  CLI::App* app = parent.add_subcommand("convert", "Retarget a BVH or C3D clip to a robot and write the reference");
+  app->add_option("clip", o->request.clip_path, "Motion capture file (.bvh or .c3d)");
+  app->add_option("--robot", o->robot, "Robot: a name in robots/, a folder or a robot.yaml")->default_val("humanoid25");
+  app->add_option("-o,--output", o->request.output,
+                  "Output stem, .csv/.npz file or folder (default: out/<clip name>); meta.json goes beside it");
+  app->add_option("--format", o->formats, "Output formats, comma-separated: csv, npz")->default_val("csv");
+  app->add_option("--fps", o->request.fps, "Output frame rate [Hz]")->default_val(30.0)->check(CLI::PositiveNumber);
+  app->add_option("--passes", o->request.passes,
+                  "Pipeline to run instead of the default, e.g. 'scale,ik{max_iterations=80},label-contacts,resample'");
+  for (const PassInfo& info : builtin_passes()) {
+    auto* flag = app->add_flag_callback("--no-" + info.name, [o, name = info.name] { o->disabled.push_back(name); },
+                                        "Skip the " + info.name + " pass");
+    flag->group("Passes");
+  }
+  app->add_flag("--list-passes", o->list_passes, "List the passes with their options and defaults, then exit");
+  app->add_option("--source-units", o->source_units, "Override the detected source units: m, cm, mm, inch, cmu or metres per unit");
+  app->add_option("--source-fps", o->source_fps, "Override the source frame rate [Hz]")->check(CLI::PositiveNumber);
+  app->add_option("--up-axis", o->up_axis, "Override the detected source up axis: x, y, z (optionally -y, ...)");
+  app->add_option("--skeleton-profile,--marker-map", o->request.motion.profile_path,
+                  "YAML mapping landmarks to BVH joint names or C3D markers (README: Motion input)");
+  app->add_flag("--keep-tpose", o->keep_tpose, "Keep a synthetic T-pose at the start instead of dropping it");
+  app->add_option("--time-scale", o->time_scale, "Play the clip S times slower (S > 1) or faster (S < 1) before IK (the retime pass)")
+      ->check(CLI::Range(0.05, 20.0));
+  app->add_option("--package-path", o->package_paths, "Extra root folder for package:// URIs (repeatable)");
+  app->add_flag("-v,--verbose", o->verbose, "Print the pipeline with all options and per-pass statistics");
+  return {app, [o] {
+            if (o->list_passes) {
+              print_pass_list();
+              return kExitOk;
+            }
+            if (o->request.clip_path.empty()) throw InputError("convert", "a clip is required (retarget convert CLIP --robot ROBOT)");
+            o->request.formats = parse_reference_formats(o->formats);
+            o->request.disabled_passes = o->disabled;
+            if (!o->source_units.empty()) o->request.motion.source_units = o->source_units;
+            if (o->source_fps > 0) o->request.motion.source_fps = o->source_fps;
+            if (!o->up_axis.empty()) o->request.motion.up_axis = o->up_axis;
+            o->request.motion.drop_tpose = !o->keep_tpose;
+            o->request.time_scale = o->time_scale;
+            const auto model = RobotModel::load(o->robot, o->package_paths);
+            const ConvertResult r = run_convert(o->request, *model);
+            print_summary(r, o->verbose);
+            return kExitOk;
+          }};
+}
+
+}  // namespace rt::cli

@@ -1,0 +1,76 @@
+// retarget validate: the dynamics check of any reference (ours or another tool's).
+
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+
+#include "retarget/core/strings.hpp"
+
+#include "cli/command.hpp"
+#include "cli/exit_codes.hpp"
+#include "cli/print_check.hpp"
+#include "retarget/core/error.hpp"
+#include "retarget/jobs/validate_job.hpp"
+#include "retarget/model/robot_model.hpp"
+
+namespace rt::cli {
+
+namespace {
+
+struct ValidateOptions {
+  std::string reference;
+  std::string robot;
+  std::vector<std::string> package_paths;
+  double fps = 0;
+  std::string report_dir;
+  bool json = false;
+  bool no_dynamic_mapping = false;
+  bool no_trunk_mapping = false;
+  bool find_speed = false;
+};
+
+}  // namespace
+
+Command setup_validate(CLI::App& parent) {
+  auto o = std::make_shared<ValidateOptions>();
+  CLI::App* app = parent.add_subcommand(
+      "validate", "Simulate a reference through the balance and tracking controllers and report balance violations");
+  app->add_option("reference", o->reference, "Reference: our CSV (+ meta.json) or NPZ, or a plain Unitree-layout CSV")->required();
+  app->add_option("--robot", o->robot, "Robot: a name in robots/, a folder or a robot.yaml")->default_val("humanoid25");
+  app->add_option("--fps", o->fps, "Frame rate [Hz] of a plain CSV without meta.json")->check(CLI::PositiveNumber);
+  app->add_option("--report", o->report_dir, "Write report.json and SVG plots into this folder");
+  app->add_flag("--json", o->json, "Print the report as JSON instead of the text summary");
+  app->add_flag("--no-dynamic-mapping", o->no_dynamic_mapping, "Turn off online COM re-planning (ablation)");
+  app->add_flag("--no-trunk-mapping", o->no_trunk_mapping, "Turn off trunk mapping on new contacts (ablation)");
+  app->add_flag("--find-speed", o->find_speed,
+                "Search (bisection over the time scale) for the fastest playback at which the check passes");
+  app->add_option("--package-path", o->package_paths, "Extra root folder for package:// URIs (repeatable)");
+  app->footer("Exit status: 0 the check passed, 1 it failed (fall or unmet contact), 2 bad input.");
+  return {app, [o] {
+            const auto model = RobotModel::load(o->robot, o->package_paths);
+            ValidateRequest request;
+            request.reference_path = o->reference;
+            request.fps = o->fps;
+            request.check = default_check_options(*model);
+            request.check.dynamic_mapping = !o->no_dynamic_mapping;
+            request.check.trunk_mapping = !o->no_trunk_mapping;
+            if (o->find_speed) {
+              const Reference ref = read_reference_for(*model, o->reference, o->fps);
+              const SpeedSearchResult s = find_feasible_speed(ref, *model, request);
+              std::cout << format("%s on %s: ", o->reference.c_str(), model->name().c_str());
+              if (!s.feasible)
+                std::cout << format("fails even at %.2fx speed\n", 1.0 / SpeedSearchOptions{}.max_time_scale);
+              else
+                std::cout << format("passes at %.2fx speed (time scale %.3f)%s\n", s.speed, s.time_scale,
+                                    s.passes_at_1x ? "" : "; fails at 1x");
+              std::cout << "  trials     ";
+              for (const auto& [S, ok] : s.trials) std::cout << format(" %.2fx:%s", 1.0 / S, ok ? "pass" : "fail");
+              std::cout << "\n";
+              return s.passes_at_1x ? kExitOk : kExitCheckFailed;
+            }
+            const ValidateResult r = run_validate(request, *model);
+            return report_check(*model, r, request.check, o->reference, o->report_dir, o->json);
+          }};
+}
+
+}  // namespace rt::cli

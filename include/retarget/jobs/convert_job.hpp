@@ -1,0 +1,44 @@
+#pragma once
+/// The `convert` job: one clip in, one robot reference out (design.md §1): load and normalise the
+/// motion, run the pass pipeline, measure quality (design.md §6) and write the requested formats
+/// plus meta.json atomically. The CLI and the batch workers call this; it never prints.
+
+#include <string>
+#include <vector>
+
+#include "retarget/motion/load_motion.hpp"
+#include "retarget/passes/quality.hpp"
+#include "retarget/pipeline/pipeline.hpp"
+#include "retarget/reference/reference_io.hpp"
+
+namespace rt {
+
+struct ConvertRequest {
+  std::string clip_path;
+  std::string output;                  ///< output stem, file (.csv/.npz) or folder; "" = out/<clip stem>
+  std::vector<ReferenceFormat> formats{ReferenceFormat::Csv};
+  double fps = 30.0;                   ///< [Hz] output rate (the resample pass's `fps`)
+  double time_scale = 1.0;             ///< the retime pass's `time_scale` (> 1 slows the clip)
+  std::string passes;                  ///< pipeline spec; "" = the default pipeline
+  std::vector<std::string> disabled_passes;  ///< --no-<pass>
+  MotionLoadOptions motion;
+  bool write_outputs = true;           ///< false: run and measure only (benchmarks, tests)
+};
+
+struct ConvertResult {
+  Clip clip;
+  std::string pipeline;                ///< the spec that ran, with all options
+  std::vector<PassRecord> passes;
+  QualityMetrics quality;
+  std::string output_stem;
+  std::vector<std::string> written;    ///< files written, meta.json last
+  double load_ms = 0, total_ms = 0;
+};
+
+/// Output stem for a request ("out/walk" for clip "mocap/walk.bvh" and no -o).
+std::string output_stem_for(const ConvertRequest& request);
+
+/// Runs the job for an already loaded robot. Throws InputError for bad input.
+ConvertResult run_convert(const ConvertRequest& request, const RobotModel& model);
+
+}  // namespace rt

@@ -1,0 +1,133 @@
+#include "retarget/jobs/convert_job.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <filesystem>
+
+#include "retarget/core/error.hpp"
+#include "retarget/core/sha256.hpp"
+#include "retarget/core/strings.hpp"
+#include "retarget/core/version.hpp"
+#include "retarget/reference/robot_mapping.hpp"
+#include "retarget/model/robot_model.hpp"
+#include "retarget/passes/registry.hpp"
+
+namespace rt {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+double ms_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+nlohmann::json statistics_json(const Statistics& s) {
+  nlohmann::json out = nlohmann::json::object();
+  for (const Statistic& st : s.items()) {
+    nlohmann::json v = {{"value", st.value}};
+    if (!st.unit.empty()) v["unit"] = st.unit;
+    if (!st.note.empty()) v["note"] = st.note;
+    out[st.name] = v;
+  }
+  return out;
+}
+
+nlohmann::json quality_json(const QualityMetrics& q) {
+  return {{"landmark_error_median_m", q.landmark_error_median_m},
+          {"landmark_error_p95_m", q.landmark_error_p95_m},
+          {"worst_landmark", q.worst_landmark},
+          {"foot_skating_p95_m", q.foot_skating_p95_m},
+          {"foot_skating_max_m", q.foot_skating_max_m},
+          {"penetration_max_m", q.penetration_max_m},
+          {"position_limit_violations", q.position_limit_violations},
+          {"velocity_limit_violations", q.velocity_limit_violations},
+          {"max_velocity_ratio", q.max_velocity_ratio},
+          {"jitter_rad_s3", q.jitter_rad_s3},
+          {"jitter_per_frame_ik_rad_s3", q.jitter_per_frame_ik_rad_s3},
+          {"frame0_sole_tilt_deg", q.frame0_sole_tilt_deg},
+          {"frame0_sole_height_m", q.frame0_sole_height_m}};
+}
+
+std::string provenance_json(const ConvertRequest& request, const ConvertResult& r, const RobotModel& model) {
+  const MotionSourceInfo& src = r.clip.human.source;
+  nlohmann::json j;
+  j["tool"] = {{"name", "retarget"}, {"version", kVersion}};
+  j["source"] = {{"path", src.path},
+                 {"sha256", sha256_file(request.clip_path)},
+                 {"format", src.format},
+                 {"profile", src.profile},
+                 {"fps", r.clip.human.fps},
+                 {"file_fps", src.file_fps},
+                 {"frames", r.clip.human.num_frames},
+                 {"units", src.units},
+                 {"metres_per_unit", src.metres_per_unit},
+                 {"up_axis", std::string(1, src.up_axis)},
+                 {"dropped_leading_frames", src.dropped_leading_frames},
+                 {"floor_height_m", src.floor_height_m}};
+  j["robot_config"] = {{"path", model.config().config_path}, {"sha256", sha256_file(model.config().config_path)}};
+  j["urdf_sha256"] = sha256_file(model.config().urdf_path);
+  j["pipeline"] = r.pipeline;
+  nlohmann::json passes = nlohmann::json::array();
+  for (const PassRecord& p : r.passes)
+    passes.push_back({{"name", p.name}, {"options", p.options}, {"time_ms", p.time_ms}, {"statistics", statistics_json(p.statistics)}});
+  j["passes"] = passes;
+  j["quality"] = quality_json(r.quality);
+  nlohmann::json warnings = nlohmann::json::array();
+  for (const Diagnostic& d : r.clip.diagnostics.items()) warnings.push_back(d.to_string());
+  for (const Diagnostic& d : r.clip.human.diagnostics.items()) warnings.push_back(d.to_string());
+  j["diagnostics"] = warnings;
+  return j.dump();
+}
+
+}  // namespace
+
+std::string output_stem_for(const ConvertRequest& request) {
+  const std::string stem = fs::path(request.clip_path).stem().string();
+  if (request.output.empty()) return (fs::path("out") / stem).string();
+  const fs::path out(request.output);
+  const std::string lower = to_lower(request.output);
+  if (ends_with(lower, ".csv") || ends_with(lower, ".npz")) return (out.parent_path() / out.stem()).string();
+  if (ends_with(request.output, "/") || fs::is_directory(out)) return (out / stem).string();
+  return request.output;
+}
+
+ConvertResult run_convert(const ConvertRequest& request, const RobotModel& model) {
+  const auto t0 = std::chrono::steady_clock::now();
+  ConvertResult r;
+  r.clip.name = fs::path(request.clip_path).stem().string();
+  r.clip.human = load_motion(request.clip_path, request.motion);
+  r.load_ms = ms_since(t0);
+
+  Pipeline pipeline = request.passes.empty() ? Pipeline::default_pipeline(builtin_passes(), request.disabled_passes)
+                                             : Pipeline::parse(request.passes, builtin_passes());
+  if (request.passes.empty() || request.fps != 30.0) pipeline.set_option_everywhere("fps", format("%.17g", request.fps));
+  if (request.time_scale != 1.0 && pipeline.set_option_everywhere("time_scale", format("%.17g", request.time_scale)) == 0)
+    throw InputError("--time-scale", "the pipeline has no retime pass");
+  r.pipeline = pipeline.to_string();
+  RobotData data(model);
+  r.passes = pipeline.run(r.clip, &model, &data);
+  if (r.clip.motion.num_frames() > 0) r.quality = compute_quality(model, data, r.clip);
+
+  r.output_stem = output_stem_for(request);
+  if (request.write_outputs) {
+    if (r.clip.reference.num_frames() == 0)
+      throw InputError("--passes", "the pipeline produced no reference (it must end with the resample pass)");
+    r.clip.reference.extra_meta_json = provenance_json(request, r, model);
+    const fs::path dir = fs::path(r.output_stem).parent_path();
+    if (!dir.empty()) {
+      std::error_code ec;
+      fs::create_directories(dir, ec);
+      if (ec) throw InputError(dir.string(), "cannot create the output folder: " + ec.message());
+    }
+    const bool npz = std::find(request.formats.begin(), request.formats.end(), ReferenceFormat::Npz) != request.formats.end();
+    NpzBodyArrays bodies;
+    if (npz) bodies = compute_body_arrays(model, data, r.clip.reference);
+    r.written = write_reference(r.output_stem, r.clip.reference, request.formats, npz ? &bodies : nullptr);
+  }
+  r.total_ms = ms_since(t0);
+  return r;
+}
+
+}  // namespace rt

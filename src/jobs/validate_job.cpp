@@ -1,0 +1,81 @@
+#include "retarget/jobs/validate_job.hpp"
+
+#include <cmath>
+
+#include "retarget/core/error.hpp"
+#include "retarget/model/robot_model.hpp"
+#include "retarget/reference/reference_io.hpp"
+#include "retarget/reference/robot_mapping.hpp"
+
+namespace rt {
+
+Reference read_reference_for(const RobotModel& model, const std::string& path, double fps) {
+  ReferenceReadOptions o;
+  o.robot_name = model.name();
+  for (int k : model.export_joint_order())
+    o.joint_names.push_back(model.joints()[static_cast<std::size_t>(model.movable_joints()[static_cast<std::size_t>(k)])].name);
+  o.fps = fps;
+  return read_reference(path, o);
+}
+
+ValidateResult validate_reference(Reference reference, const RobotModel& model, const ValidateRequest& request) {
+  ValidateResult r;
+  const std::string where = request.reference_path.empty() ? std::string("reference") : request.reference_path;
+  if (!reference.has_contacts()) {
+    RobotData data(model);
+    const ReferenceRobotMap map(model, reference, where);
+    const ContactSchedule s =
+        label_robot_contacts(model, data, map.q_all(reference), reference.fps, request.contacts, r.diagnostics, where);
+    reference.contact = s.in_contact;
+    r.contacts_labelled = true;
+    r.diagnostics.note(where, "no contact schedule in the file: contacts labelled from the reference's foot heights and speeds");
+  }
+  r.check = run_dynamics_check(model, reference, request.check);
+  r.reference = std::move(reference);
+  return r;
+}
+
+ValidateResult run_validate(const ValidateRequest& request, const RobotModel& model) {
+  return validate_reference(read_reference_for(model, request.reference_path, request.fps), model, request);
+}
+
+SpeedSearchResult find_feasible_speed(const Reference& reference, const RobotModel& model, const ValidateRequest& request,
+                                      const SpeedSearchOptions& o) {
+  if (!(o.min_time_scale > 0 && o.min_time_scale <= 1 && o.max_time_scale >= 1))
+    throw InputError("--find-speed", "the time-scale bounds must satisfy 0 < min <= 1 <= max");
+  Reference labelled = reference;
+  if (!labelled.has_contacts()) labelled = validate_reference(reference, model, request).reference;  // label once
+  SpeedSearchResult r;
+  auto passes = [&](double S) {
+    const bool ok = run_dynamics_check(model, retime_reference(labelled, S), request.check).passed;
+    r.trials.emplace_back(S, ok);
+    return ok;
+  };
+  // Bracket [fail, pass] in S, then bisect in log S.
+  double fail = 0, pass = 0;
+  r.passes_at_1x = passes(1.0);
+  if (r.passes_at_1x) {
+    pass = 1.0;
+    if (passes(o.min_time_scale)) {
+      r.feasible = true;
+      r.time_scale = o.min_time_scale;
+      r.speed = 1.0 / r.time_scale;
+      return r;
+    }
+    fail = o.min_time_scale;
+  } else {
+    fail = 1.0;
+    if (!passes(o.max_time_scale)) return r;
+    pass = o.max_time_scale;
+  }
+  for (int i = 0; i < o.bisection_steps; ++i) {
+    const double mid = std::sqrt(fail * pass);
+    (passes(mid) ? pass : fail) = mid;
+  }
+  r.feasible = true;
+  r.time_scale = pass;
+  r.speed = 1.0 / pass;
+  return r;
+}
+
+}  // namespace rt

@@ -1,0 +1,52 @@
+// Benchmark of the dynamics check (design.md §7, issues 5 and 6): real-time factor of the closed
+// loop (1 ms simulation, 2 ms control) per robot, single thread, and the cost of the online COM
+// re-planner while it is active (foot-lift reference: re-planning runs from t = 0.5 s).
+// Usage: bench_check [runs] [robot ...]   (defaults: 5 runs; humanoid25 g1)
+
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "../bench_util.hpp"
+#include "retarget/model/robot_model.hpp"
+#include "retarget/reference/robot_mapping.hpp"
+#include "retarget/reference/synthetic_references.hpp"
+#include "retarget/sim/dynamics_check.hpp"
+
+int main(int argc, char** argv) {
+  using namespace rt;
+  const int runs = argc > 1 ? std::atoi(argv[1]) : 5;
+  std::vector<std::string> robots;
+  for (int i = 2; i < argc; ++i) robots.push_back(argv[i]);
+  if (robots.empty()) robots = {"humanoid25", "g1"};
+  try {
+    for (const std::string& name : robots) {
+      const auto model = RobotModel::load(name);
+      const DynamicsCheckOptions o = default_check_options(*model);
+      const Reference standing = constant_reference(*model, model->standing_q(), 10.0, 30.0);
+      double sim_s = 0;
+      auto rtf_times = bench::time_runs(runs, [&] {
+        const DynamicsCheckResult r = run_dynamics_check(*model, standing, o);
+        sim_s = r.simulated_s + o.settle_s;
+      });
+      std::printf("%-12s standing 10 s: median %.3f s wall, real-time factor %.1fx (%d runs)\n", name.c_str(),
+                  bench::median(rtf_times), sim_s / bench::median(rtf_times), runs);
+
+      // Re-planner cost while it is active (foot lift, from the first activation at ~0.5 s): planner
+      // time over the rest of the control cycle, summed over the active span.
+      const Reference lift = foot_lift_reference(*model);
+      std::vector<double> overhead;
+      for (int i = 0; i < runs; ++i) {
+        const DynamicsCheckResult r = run_dynamics_check(*model, lift, o);
+        if (r.active_cycles > 0) overhead.push_back(r.planner_wall_s / (r.active_loop_wall_s - r.planner_wall_s));
+      }
+      std::printf("%-12s online COM re-planner while active (foot lift): +%.1f%% per control cycle (median of %zu runs)\n",
+                  name.c_str(), 100.0 * bench::median(overhead), overhead.size());
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_check: %s\n", e.what());
+    return 2;
+  }
+  return 0;
+}
