@@ -6,10 +6,12 @@
 
 #include "cli/command.hpp"
 #include "cli/exit_codes.hpp"
+#include "cli/print_check.hpp"
 #include "retarget/core/error.hpp"
 #include "retarget/core/file_io.hpp"
 #include "retarget/core/strings.hpp"
 #include "retarget/jobs/convert_job.hpp"
+#include "retarget/jobs/validate_job.hpp"
 #include "retarget/model/robot_model.hpp"
 #include "retarget/passes/registry.hpp"
 
@@ -28,7 +30,10 @@ struct ConvertOptions {
   bool keep_tpose = false;
   bool verbose = false;
   bool list_passes = false;
+  bool check = false;       // run the dynamics check on the result (issue 5)
+  std::string report_dir;   // write the check's report folder here (implies --check)
   std::vector<std::string> disabled;  // filled from the --no-<pass> flags
+  std::vector<std::string> enabled;   // filled from the --<pass> flags of passes not in the default pipeline
 };
 
 void print_pass_list() {
@@ -96,8 +101,11 @@ Command setup_convert(CLI::App& parent) {
   app->add_option("--passes", o->request.passes,
                   "Pipeline to run instead of the default, e.g. 'scale,ik{max_iterations=80},label-contacts,resample'");
   for (const PassInfo& info : builtin_passes()) {
-    auto* flag = app->add_flag_callback("--no-" + info.name, [o, name = info.name] { o->disabled.push_back(name); },
-                                        "Skip the " + info.name + " pass");
+    auto* flag = info.in_default_pipeline
+                     ? app->add_flag_callback("--no-" + info.name, [o, name = info.name] { o->disabled.push_back(name); },
+                                              "Skip the " + info.name + " pass")
+                     : app->add_flag_callback("--" + info.name, [o, name = info.name] { o->enabled.push_back(name); },
+                                              "Also run the " + info.name + " pass (not in the default pipeline)");
     flag->group("Passes");
   }
   app->add_flag("--list-passes", o->list_passes, "List the passes with their options and defaults, then exit");
@@ -111,6 +119,11 @@ Command setup_convert(CLI::App& parent) {
       ->check(CLI::Range(0.05, 20.0));
   app->add_option("--package-path", o->package_paths, "Extra root folder for package:// URIs (repeatable)");
   app->add_flag("-v,--verbose", o->verbose, "Print the pipeline with all options and per-pass statistics");
+  app->add_flag("--check", o->check,
+                "After converting, run the dynamics check on the result (as 'retarget validate'); exit 1 when it fails");
+  app->add_option("--report", o->report_dir, "With --check: write report.json, report.txt and SVG plots into this folder "
+                                             "(implies --check)");
+  app->footer("Exit status: 0 ok (and the check passed), 1 the check failed (outputs are written), 2 bad input.");
   return {app, [o] {
             if (o->list_passes) {
               print_pass_list();
@@ -119,6 +132,7 @@ Command setup_convert(CLI::App& parent) {
             if (o->request.clip_path.empty()) throw InputError("convert", "a clip is required (retarget convert CLIP --robot ROBOT)");
             o->request.formats = parse_reference_formats(o->formats);
             o->request.disabled_passes = o->disabled;
+            o->request.enabled_passes = o->enabled;
             if (!o->source_units.empty()) o->request.motion.source_units = o->source_units;
             if (o->source_fps > 0) o->request.motion.source_fps = o->source_fps;
             if (!o->up_axis.empty()) o->request.motion.up_axis = o->up_axis;
@@ -127,7 +141,13 @@ Command setup_convert(CLI::App& parent) {
             const auto model = RobotModel::load(o->robot, o->package_paths);
             const ConvertResult r = run_convert(o->request, *model);
             print_summary(r, o->verbose);
-            return kExitOk;
+            if (!o->check && o->report_dir.empty()) return kExitOk;
+            ValidateRequest check;
+            check.reference_path = r.written.empty() ? r.output_stem : r.written.front();
+            check.check = default_check_options(*model);
+            std::cout << "\n";
+            const ValidateResult v = validate_reference(r.clip.reference, *model, check);
+            return report_check(*model, v, check.check, check.reference_path, o->report_dir, false);
           }};
 }
 

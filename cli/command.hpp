@@ -18,5 +18,7 @@ struct Command {
 Command setup_inspect(CLI::App& parent);
 Command setup_convert(CLI::App& parent);
 Command setup_validate(CLI::App& parent);
+Command setup_batch(CLI::App& parent);
+Command setup_merge_summaries(CLI::App& parent);
 
 }  // namespace rt::cli

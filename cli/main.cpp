@@ -20,7 +20,8 @@ int main(int argc, char** argv) {
       "Exit codes: 0 ok, 1 check failed, 2 bad input or usage, 3 internal error.\n"
       "Run 'retarget <command> --help' for a command's options.");
 
-  std::vector<Command> commands = {setup_convert(app), setup_validate(app), setup_inspect(app)};
+  std::vector<Command> commands = {setup_convert(app), setup_validate(app), setup_batch(app),
+                                   setup_merge_summaries(app), setup_inspect(app)};
 
   try {
     app.parse(argc, argv);

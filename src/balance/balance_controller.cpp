@@ -30,7 +30,8 @@ BalanceController::BalanceController(const PendulumModel& model, const BalanceOp
   A_cl_ = A - B * K_;
   B_cl_ = B * (K_ * E);
   A_b_ = A - B * K_ - L_ * Cm;
-  B_b_.col(0) = B * (K_ * E);
+  B_b_.leftCols<4>() = B * K_;
+  B_b_.col(4) = B;
   B_b_.rightCols<2>() = L_;
 
   const auto [Ad, Bd] = discretize_zoh(A_b_, B_b_, options.control_period_s);
@@ -55,12 +56,36 @@ BalanceState BalanceController::rest_state(const Vec2& p_W_com) const {
   return s;
 }
 
-Vec2 BalanceController::step(BalanceState& state, const Vec2& c_ref, const Vec2& c_meas, const Vec2& p_meas) const {
+Vec2 BalanceController::step(BalanceState& state, const BalanceReference& ref, const Vec2& c_meas,
+                             const Vec2& p_meas) const {
   for (int axis = 0; axis < 2; ++axis) {
-    const Eigen::Vector3d u(c_ref[axis], c_meas[axis], p_meas[axis]);
+    Eigen::Matrix<double, 7, 1> u;
+    u << ref.s_ref.col(axis), ref.a_ref[axis], c_meas[axis], p_meas[axis];
     state.s_hat.col(axis) = A_b_d_ * state.s_hat.col(axis) + B_b_d_ * u;
   }
   return state.desired_cop();
+}
+
+BalanceReference BalanceReference::at_rest(const Vec2& c_ref) {
+  BalanceReference r;
+  r.s_ref.row(0) = c_ref.transpose();
+  r.s_ref.row(1) = c_ref.transpose();
+  return r;
+}
+
+BalanceReference BalanceReference::from_com_motion(const Eigen::Matrix<double, 5, 2>& d, double omega_sq) {
+  BalanceReference r;
+  r.s_ref.row(0) = d.row(0);
+  r.s_ref.row(1) = d.row(0) - d.row(2) / omega_sq;
+  r.s_ref.row(2) = d.row(1);
+  r.s_ref.row(3) = d.row(1) - d.row(3) / omega_sq;
+  r.a_ref = (d.row(2) - d.row(4) / omega_sq).transpose();
+  return r;
+}
+
+void BalanceReference::add_com_offset(const Vec2& delta) {
+  s_ref.row(0) += delta.transpose();
+  s_ref.row(1) += delta.transpose();
 }
 
 }  // namespace rt

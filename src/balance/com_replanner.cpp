@@ -35,10 +35,10 @@ ComReplanner::ComReplanner(const ClosedLoopModel& model, const ComReplanOptions&
   if (!(options.w > 0)) throw InputError("COM re-planning: w must be > 0");
 }
 
-Vec2 ComReplanner::solve(const Mat42& x0, Eigen::Ref<Mat2X> U, int n, const Vec2& y_ref) const {
+Vec2 ComReplanner::solve(const Mat42& x0, Eigen::Ref<Mat2X> U, int n, const Vec2& y_ref, const Vec2& y_offset_n) const {
   // y_n = ŷ_n + mᵀδ with m_k = C A^{n−1−k} B. Minimising ½|y_n − y_ref|² + ½ δᵀWδ gives
   // (W + m mᵀ) δ = −m (ŷ_n − y_ref); Sherman–Morrison with diagonal W makes it O(n).
-  const Vec2 y_hat = predictor_.predict_at(x0, U, n);
+  const Vec2 y_hat = y_offset_n + predictor_.predict_at(x0, U, n);
   const Vec2 error = y_hat - y_ref;
   double m_Winv_m = 0;
   for (int k = 0; k < n; ++k) {
@@ -54,11 +54,14 @@ Vec2 ComReplanner::solve(const Mat42& x0, Eigen::Ref<Mat2X> U, int n, const Vec2
 }
 
 std::optional<ReplanEvent> ComReplanner::step(const Mat42& x0, Eigen::Ref<Mat2X> U,
-                                              const std::function<const SupportFrame&(int)>& support) const {
+                                              const std::function<const SupportFrame&(int)>& support,
+                                              const Mat2X* y_offset) const {
   const int N = options_.horizon;
   RT_DEMAND(U.cols() >= N, "ComReplanner::step: the COM window must hold N columns");
+  RT_DEMAND(!y_offset || y_offset->cols() >= N, "ComReplanner::step: the COP offset must hold N columns");
   Mat2X y(2, N);
   predictor_.predict(x0, U, N, y);
+  if (y_offset) y += y_offset->leftCols(N);
 
   auto finish = [&](int kind, int n, const Vec2& y_ref) {
     ReplanEvent e;
@@ -67,7 +70,7 @@ std::optional<ReplanEvent> ComReplanner::step(const Mat42& x0, Eigen::Ref<Mat2X>
     e.y_predicted = y.col(n - 1);
     e.y_ref = y_ref;
     const Mat2X before = U.leftCols(n);
-    e.y_after = solve(x0, U, n, y_ref);
+    e.y_after = solve(x0, U, n, y_ref, y_offset ? Vec2(y_offset->col(n - 1)) : Vec2::Zero());
     e.max_shift_m = (U.leftCols(n) - before).colwise().norm().maxCoeff();
     return e;
   };

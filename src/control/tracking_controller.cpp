@@ -3,6 +3,7 @@
 #include <mujoco/mujoco.h>
 
 #include <Eigen/Cholesky>
+#include <cmath>
 
 #include "retarget/core/error.hpp"
 #include "retarget/model/kinematics.hpp"
@@ -64,71 +65,132 @@ TrackingController::TrackingController(const RobotModel& model, TrackingOptions 
   w_q_.head<3>().setConstant(w.root_linear);
   w_q_.segment<3>(3).setConstant(w.root_angular);
   w_q_.tail(nu).setConstant(w.joint);
+  const ContactConstraintOptions& c = options_.contact;
+  friction_ = c.friction > 0 ? c.friction : model.config().simulation.friction;
+  if (c.enabled && !(friction_ > 0 && c.friction_margin > 0 && c.cop_margin > 0 && c.cop_margin <= 1 &&
+                     c.min_normal_force_n >= 0))
+    throw InputError("tracking controller: contact limits need friction > 0, friction_margin > 0, cop_margin in (0, 1] "
+                     "and min_normal_force_n >= 0");
 }
 
-VecX TrackingController::foot_weights(const std::array<bool, 2>& contact) const {
+void TrackingController::foot_weights(const std::array<bool, 2>& contact, VecX& w_c) const {
   const TrackingWeights& w = options_.weights;
-  VecX w_c(12);
+  w_c.resize(12);
   for (int foot = 0; foot < 2; ++foot) {
     const bool stance = contact[static_cast<std::size_t>(foot)];
     w_c.segment<3>(6 * foot).setConstant(stance ? w.stance_foot : w.foot_linear);
     w_c.segment<3>(6 * foot + 3).setConstant(stance ? w.stance_foot : w.foot_angular);
   }
-  return w_c;
 }
 
-TrackingProblem TrackingController::build(RobotData& data, const VecXCRef& q, const VecXCRef& v,
-                                          const TrackingReference& ref, bool data_is_current) const {
+void TrackingController::contact_limits(TrackingProblem& p) const {
+  const ContactConstraintOptions& o = options_.contact;
+  const int nc = static_cast<int>(p.contact_feet.size());
+  if (!o.enabled || nc == 0) {
+    p.C_contact.resize(0, p.nf);
+    p.d_contact.resize(0);
+    return;
+  }
+  constexpr int kRows = 11;
+  p.C_contact.setZero(kRows * nc, p.nf);
+  p.d_contact.setZero(kRows * nc);
+  const double mu = o.friction_margin * friction_ / std::sqrt(2.0);
+  for (int i = 0; i < nc; ++i) {
+    const Sole& sole = model_->soles()[static_cast<std::size_t>(p.contact_feet[static_cast<std::size_t>(i)])];
+    const Mat3& R = p.R_contact_W[static_cast<std::size_t>(i)];
+    const Eigen::RowVector3d ex = R.col(0).transpose(), ey = R.col(1).transpose(), ez = R.col(2).transpose();
+    const double half_l = 0.5 * o.cop_margin * sole.size_m.x(), half_w = 0.5 * o.cop_margin * sole.size_m.y();
+    const double yaw = mu * std::min(half_l, half_w);
+    auto block = p.C_contact.block(kRows * i, 6 * i, kRows, 6);
+    // Rows act on (f; n) in W; sole-frame components are R.col(k)ᵀ f and R.col(k)ᵀ n.
+    block.row(0) << ez, 0, 0, 0;                    // f_z ≥ f_min
+    p.d_contact[kRows * i] = o.min_normal_force_n;
+    block.row(1) << mu * ez - ex, 0, 0, 0;          // |f_x| ≤ μ' f_z
+    block.row(2) << mu * ez + ex, 0, 0, 0;
+    block.row(3) << mu * ez - ey, 0, 0, 0;          // |f_y| ≤ μ' f_z
+    block.row(4) << mu * ez + ey, 0, 0, 0;
+    block.row(5) << half_w * ez, -ex;               // |n_x| ≤ (w/2) f_z: COP across the sole
+    block.row(6) << half_w * ez, ex;
+    block.row(7) << half_l * ez, -ey;               // |n_y| ≤ (l/2) f_z: COP along the sole
+    block.row(8) << half_l * ez, ey;
+    block.row(9) << yaw * ez, -ez;                  // |n_z| ≤ μ' min(l, w)/2 f_z
+    block.row(10) << yaw * ez, ez;
+  }
+}
+
+void TrackingController::build(RobotData& data, const VecXCRef& q, const VecXCRef& v, const TrackingReference& ref,
+                               TrackingProblem& p, TrackingWorkspace& ws, bool data_is_current) const {
   const RobotModel& model = *model_;
+  const mjModel* m = model.mj();
+  const mjData* d = data.mj();
   const int nv = model.nv(), nu = model.nu();
   RT_DEMAND(q.size() == model.nq() && v.size() == nv, "TrackingController::build: state size");
   RT_DEMAND(ref.q.size() == model.nq() && ref.v.size() == nv && ref.a.size() == nv,
             "TrackingController::build: reference size");
   if (!data_is_current) update_dynamics(model, data, q, v);
 
-  TrackingProblem p;
   p.nu = nu;
   p.contact = ref.contact;
   p.desired_cop_W = ref.desired_cop_W;
-  p.M = mass_matrix(model, data);
-  p.bias = bias_forces(model, data);
+  p.M.resize(nv, nv);
+  mj_fullM(m, p.M.data(), d->qM);  // symmetric: row- and column-major agree
+  p.bias = Eigen::Map<const VecX>(d->qfrc_bias, nv);
   p.p_W_com = com_position(model, data);
 
   // Eq. (2): q̈̂ = q̈_ref + k_d (q̇_ref − q̇) + k_p (q_ref − q), the position error taken on the manifold.
-  const VecX q_err = difference(model, q, ref.q, 1.0);
-  VecX qdd_hat = ref.a + kd_.cwiseProduct(ref.v - v) + kp_.cwiseProduct(q_err);
+  ws.q_err.resize(nv);
+  mj_differentiatePos(m, ws.q_err.data(), 1.0, q.data(), ref.q.data());
+  ws.qdd_hat = ref.a + kd_.cwiseProduct(ref.v - v) + kp_.cwiseProduct(ws.q_err);
 
   // Foot tasks for both feet (eq. 3–4) at the sole centres.
   p.J_feet.resize(12, nv);
   p.Jdot_v_feet.resize(12);
-  VecX rdd_hat(12);
+  ws.rdd_hat.resize(12);
+  p.contact_feet.clear();
+  p.r_contact_W.clear();
+  p.R_contact_W.clear();
   const std::vector<Vec6> jdot_v = links_jdot_v(model, data, {model.soles()[0].link, model.soles()[1].link},
                                                  {model.soles()[0].p_L_center, model.soles()[1].p_L_center});
+  ws.J_link.resize(3, 2 * nv);
   for (int foot = 0; foot < 2; ++foot) {
     const Sole& sole = model.soles()[static_cast<std::size_t>(foot)];
-    const MatX J = link_jacobian(model, data, sole.link, sole.p_L_center);
-    p.J_feet.middleRows(6 * foot, 6) = J;
-    p.Jdot_v_feet.segment<6>(6 * foot) = jdot_v[static_cast<std::size_t>(foot)];
     const Iso3 X_W_link = link_pose(model, data, sole.link);
     const Vec3 p_W_sole = X_W_link * sole.p_L_center;
+    // mj_jac writes 3 x nv row-major blocks: the transposes of column-major nv x 3 blocks.
+    Eigen::Map<MatX> jp_t(ws.J_link.data(), nv, 3), jr_t(ws.J_link.data() + 3 * nv, nv, 3);
+    mj_jac(m, d, jp_t.data(), jr_t.data(), p_W_sole.data(), model.links()[static_cast<std::size_t>(sole.link)].body);
+    p.J_feet.middleRows(6 * foot, 3) = jp_t.transpose();
+    p.J_feet.middleRows(6 * foot + 3, 3) = jr_t.transpose();
+    p.Jdot_v_feet.segment<6>(6 * foot) = jdot_v[static_cast<std::size_t>(foot)];
     const Iso3& X_ref = ref.X_W_sole[static_cast<std::size_t>(foot)];
     Vec6 err;
     err.head<3>() = X_ref.translation() - p_W_sole;
     err.tail<3>() = rotation_error(X_ref.linear(), X_W_link.linear());
-    const Vec6 v_now = J * v;
+    const Vec6 v_now = p.J_feet.middleRows<6>(6 * foot) * v;
     const Vec6 rdd = ref.a_sole[static_cast<std::size_t>(foot)] +
                      options_.foot_kd * (ref.v_sole[static_cast<std::size_t>(foot)] - v_now) + options_.foot_kp * err;
     p.rdd_desired[static_cast<std::size_t>(foot)] = rdd;
-    rdd_hat.segment<6>(6 * foot) = rdd;
+    ws.rdd_hat.segment<6>(6 * foot) = rdd;
     if (ref.contact[static_cast<std::size_t>(foot)]) {
       p.contact_feet.push_back(foot);
       p.r_contact_W.push_back(p_W_sole);
+      // The floor is horizontal: limits act along W's vertical, with the sole rectangle turned by
+      // the foot's heading (a tilted foot's own axes would tilt the friction cone).
+      const Vec3 x_link = X_W_link.linear().col(0);
+      p.R_contact_W.push_back(AngleAxis(std::atan2(x_link.y(), x_link.x()), Vec3::UnitZ()).toRotationMatrix());
     }
   }
 
   // Eq. (5): q̈̂' = q̈̂ + J_c⁺ (r̈̂ − J_c q̈̂ − J̇_c q̇), J_c⁺ = J_cᵀ (J_c J_cᵀ + λI)⁻¹.
-  const MatX JJt = p.J_feet * p.J_feet.transpose() + options_.pinv_damping * MatX::Identity(12, 12);
-  p.qdd_desired = qdd_hat + p.J_feet.transpose() * JJt.ldlt().solve(rdd_hat - p.J_feet * qdd_hat - p.Jdot_v_feet);
+  Eigen::Matrix<double, 12, 12> JJt;
+  JJt.noalias() = p.J_feet * p.J_feet.transpose();
+  JJt.diagonal().array() += options_.pinv_damping;
+  Eigen::Matrix<double, 12, 1> e12 = ws.rdd_hat - p.Jdot_v_feet;
+  e12.noalias() -= p.J_feet * ws.qdd_hat;
+  const Eigen::LLT<Eigen::Matrix<double, 12, 12>> llt12(JJt);
+  e12 = llt12.solve(e12);
+  p.qdd_desired = ws.qdd_hat;
+  p.qdd_desired.noalias() += p.J_feet.transpose() * e12;
 
   // Equation of motion: q̈ = M⁻¹ (S τ + J_fᵀ f − c) = G y + a0.
   const int nc = static_cast<int>(p.contact_feet.size());
@@ -138,13 +200,13 @@ TrackingProblem TrackingController::build(RobotData& data, const VecXCRef& q, co
   const int ny = nu + p.nf;
   // G = M⁻¹ [S, J_fᵀ] through MuJoCo's sparse L'DL factor of M (mj_factorM ran in
   // update_dynamics): each column of a column-major matrix is one right-hand side.
-  MatX SJ = MatX::Zero(nv, ny);
-  SJ.bottomLeftCorner(nu, nu).setIdentity();
-  SJ.rightCols(p.nf) = p.J_contact.transpose();
+  ws.SJ.setZero(nv, ny);
+  ws.SJ.bottomLeftCorner(nu, nu).setIdentity();
+  ws.SJ.rightCols(p.nf) = p.J_contact.transpose();
   p.G.resize(nv, ny);
-  mj_solveM(model.mj(), data.mj(), p.G.data(), SJ.data(), ny);
+  mj_solveM(m, data.mj(), p.G.data(), ws.SJ.data(), ny);
   p.a0.resize(nv);
-  mj_solveM(model.mj(), data.mj(), p.a0.data(), p.bias.data(), 1);
+  mj_solveM(m, data.mj(), p.a0.data(), p.bias.data(), 1);
   p.a0 = -p.a0;
 
   // Eq. (9)–(11), (16), (17).
@@ -165,44 +227,89 @@ TrackingProblem TrackingController::build(RobotData& data, const VecXCRef& q, co
   p.A.setZero(ny, ny);
   p.b.setZero(ny);
   // Z_q = ½ |q̈̂' − q̈|²_Wq   (rank updates fill the lower triangle; mirrored below)
-  const MatX Gs = w_q_.cwiseSqrt().asDiagonal() * p.G;
-  p.A.selfadjointView<Eigen::Lower>().rankUpdate(Gs.transpose());
-  p.b.noalias() -= p.G.transpose() * w_q_.cwiseProduct(p.qdd_desired - p.a0);
+  ws.Gs = w_q_.cwiseSqrt().asDiagonal() * p.G;
+  p.A.selfadjointView<Eigen::Lower>().rankUpdate(ws.Gs.transpose());
+  ws.tmp_nv = w_q_.cwiseProduct(p.qdd_desired - p.a0);
+  p.b.noalias() -= p.G.transpose() * ws.tmp_nv;
   // Z_c = ½ |r̈̂ − J_c q̈ − J̇_c q̇|²_Wc
-  const VecX w_c = foot_weights(ref.contact);
-  const MatX H = p.J_feet * p.G;
-  const VecX d = rdd_hat - p.J_feet * p.a0 - p.Jdot_v_feet;
-  p.A.selfadjointView<Eigen::Lower>().rankUpdate((w_c.cwiseSqrt().asDiagonal() * H).transpose());
-  p.b.noalias() -= H.transpose() * w_c.cwiseProduct(d);
+  foot_weights(ref.contact, ws.w_c);
+  ws.H.noalias() = p.J_feet * p.G;
+  ws.tmp_12 = ws.rdd_hat - p.Jdot_v_feet;
+  ws.tmp_12.noalias() -= p.J_feet * p.a0;
+  ws.WH = ws.w_c.cwiseSqrt().asDiagonal() * ws.H;
+  p.A.selfadjointView<Eigen::Lower>().rankUpdate(ws.WH.transpose());
+  ws.tmp_12 = ws.w_c.cwiseProduct(ws.tmp_12);
+  p.b.noalias() -= ws.H.transpose() * ws.tmp_12;
   // Z_τ, Z_f with zero reference torque and force.
   p.A.topLeftCorner(nu, nu).diagonal().array() += w.torque;
   p.A.bottomRightCorner(p.nf, p.nf).diagonal().array() += w.force;
   // Z_b, Z_p, Z_m act on the forces only.
   p.A.triangularView<Eigen::StrictlyUpper>() = p.A.transpose();
   if (p.nf > 0) {
-    p.A.bottomRightCorner(p.nf, p.nf) += w.cop * p.P.transpose() * p.P + w.foot_cop * p.P_p.transpose() * p.P_p +
-                                          w.com_moment * p.V.transpose() * p.V;
+    auto A_ff = p.A.bottomRightCorner(p.nf, p.nf);
+    A_ff.noalias() += w.cop * p.P.transpose() * p.P;
+    A_ff.noalias() += w.foot_cop * p.P_p.transpose() * p.P_p;
+    A_ff.noalias() += w.com_moment * p.V.transpose() * p.V;
   }
+  contact_limits(p);
+}
+
+TrackingProblem TrackingController::build(RobotData& data, const VecXCRef& q, const VecXCRef& v,
+                                          const TrackingReference& ref, bool data_is_current) const {
+  TrackingProblem p;
+  TrackingWorkspace ws;
+  build(data, q, v, ref, p, ws, data_is_current);
   return p;
 }
 
-TrackingCommand TrackingController::solve(const TrackingProblem& p) const {
-  // A is positive definite (W_τ, W_f > 0 regularise every unknown): Cholesky.
-  const Eigen::LLT<MatX> llt(p.A);
-  RT_DEMAND(llt.info() == Eigen::Success, "TrackingController: cost matrix is not positive definite");
-  const VecX y = -llt.solve(p.b);
-  TrackingCommand c;
-  c.tau_raw = y.head(p.nu);
-  c.f_contact = y.tail(p.nf);
-  c.qdd = p.G * y + p.a0;
+void TrackingController::solve(const TrackingProblem& p, TrackingCommand& c, TrackingWorkspace& ws) const {
+  const int nu = p.nu, nf = p.nf;
+  // A is positive definite (W_τ, W_f > 0 regularise every unknown), hence so are A_ττ and the
+  // Schur complement of the wrenches.
+  ws.llt_tau.compute(p.A.topLeftCorner(nu, nu));
+  RT_DEMAND(ws.llt_tau.info() == Eigen::Success, "TrackingController: cost matrix is not positive definite");
+  ws.z_tau = p.b.head(nu);
+  ws.llt_tau.matrixL().solveInPlace(ws.z_tau);  // z = L⁻¹ b_τ
+  c.closed_form_feasible = true;
+  c.qp_iterations = 0;
+  c.qp_status = QpStatus::Solved;
+  c.f_contact.resize(nf);
+  if (nf > 0) {
+    ws.X = p.A.topRightCorner(nu, nf);
+    ws.llt_tau.matrixL().solveInPlace(ws.X);  // X = L⁻¹ A_τf
+    ws.A_red = p.A.bottomRightCorner(nf, nf);
+    ws.A_red.noalias() -= ws.X.transpose() * ws.X;
+    ws.b_red = p.b.tail(nf);
+    ws.b_red.noalias() -= ws.X.transpose() * ws.z_tau;
+    // The QP starts at the unconstrained minimum −A_red⁻¹ b_red (the paper's closed form) and only
+    // iterates when that violates a contact limit.
+    c.qp_status = ws.qp.solve(ws.A_red, ws.b_red, p.C_contact, p.d_contact, c.f_contact);
+    RT_DEMAND(c.qp_status != QpStatus::NotConvex, "TrackingController: cost matrix is not positive definite");
+    c.qp_iterations = ws.qp.iterations();
+    c.closed_form_feasible = c.qp_iterations == 0;
+    ws.z_tau.noalias() += ws.X * c.f_contact;
+  }
+  // τ = −A_ττ⁻¹ (b_τ + A_τf f) = −L⁻ᵀ (z + X f).
+  c.tau_raw = -ws.z_tau;
+  ws.llt_tau.matrixU().solveInPlace(c.tau_raw);
+  c.qdd = p.a0;
+  c.qdd.noalias() += p.G.leftCols(nu) * c.tau_raw;
+  if (nf > 0) c.qdd.noalias() += p.G.rightCols(nf) * c.f_contact;
   const VecX& limit = model_->effort_limits();
   c.tau = c.tau_raw;
-  for (int i = 0; i < p.nu; ++i) {
+  c.saturated_joints = 0;
+  for (int i = 0; i < nu; ++i) {
     if (limit[i] > 0 && std::abs(c.tau[i]) > limit[i]) {
       c.tau[i] = std::copysign(limit[i], c.tau[i]);
       ++c.saturated_joints;
     }
   }
+}
+
+TrackingCommand TrackingController::solve(const TrackingProblem& p) const {
+  TrackingCommand c;
+  TrackingWorkspace ws;
+  solve(p, c, ws);
   return c;
 }
 
@@ -233,7 +340,8 @@ std::array<double, 7> TrackingController::cost_terms(const TrackingProblem& p, c
   const double Z_b = 0.5 * w.cop * N_b.head<2>().squaredNorm();
   const double Z_q = 0.5 * (p.qdd_desired - qdd).cwiseAbs2().dot(w_q_);
   double Z_c = 0;
-  const VecX w_c = foot_weights(p.contact);
+  VecX w_c;
+  foot_weights(p.contact, w_c);
   for (int foot = 0; foot < 2; ++foot) {
     const Vec6 rdd = p.J_feet.middleRows(6 * foot, 6) * qdd + p.Jdot_v_feet.segment<6>(6 * foot);
     const Vec6 e = p.rdd_desired[static_cast<std::size_t>(foot)] - rdd;

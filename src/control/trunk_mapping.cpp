@@ -23,8 +23,9 @@ Principal principal(const std::vector<Vec3>& pts) {
   Eigen::Matrix2Xd X(2, static_cast<Eigen::Index>(pts.size()));
   for (std::size_t i = 0; i < pts.size(); ++i) X.col(static_cast<Eigen::Index>(i)) = (pts[i] - p.centre).head<2>();
   const Eigen::JacobiSVD<Eigen::Matrix2Xd> svd(X, Eigen::ComputeFullU);
-  p.singular = svd.singularValues().head<2>().eval();
-  if (svd.singularValues().size() < 2) p.singular[1] = 0;
+  // A single point gives one singular value (2 x 1 matrix): the missing one is 0.
+  for (Eigen::Index i = 0; i < std::min<Eigen::Index>(2, svd.singularValues().size()); ++i)
+    p.singular[i] = svd.singularValues()[i];
   p.theta = std::atan2(svd.matrixU()(1, 0), svd.matrixU()(0, 0));
   return p;
 }
@@ -39,6 +40,10 @@ Vec3 TrunkTransform::apply_position(const Vec3& p_hat_W) const {
   const Vec3 S(scale.x(), scale.y(), 1.0);
   const Vec3 local = rot_z(-theta_ref_rad) * (p_hat_W - c_ref_W);
   return c_act_W + rot_z(theta_ref_rad + yaw_rad) * S.cwiseProduct(local);
+}
+
+Mat3 TrunkTransform::linear() const {
+  return rot_z(theta_ref_rad + yaw_rad) * Vec3(scale.x(), scale.y(), 1.0).asDiagonal() * rot_z(-theta_ref_rad);
 }
 
 Quat TrunkTransform::apply_orientation(const Quat& R_hat_W) const {

@@ -50,6 +50,16 @@ nlohmann::json quality_json(const QualityMetrics& q) {
           {"frame0_sole_height_m", q.frame0_sole_height_m}};
 }
 
+// The pipeline run_convert runs for a request (the spec string records every option).
+Pipeline make_pipeline(const ConvertRequest& request) {
+  Pipeline pipeline = request.passes.empty() ? Pipeline::default_pipeline(builtin_passes(), request.disabled_passes, request.enabled_passes)
+                                             : Pipeline::parse(request.passes, builtin_passes());
+  if (request.passes.empty() || request.fps != 30.0) pipeline.set_option_everywhere("fps", format("%.17g", request.fps));
+  if (request.time_scale != 1.0 && pipeline.set_option_everywhere("time_scale", format("%.17g", request.time_scale)) == 0)
+    throw InputError("--time-scale", "the pipeline has no retime pass");
+  return pipeline;
+}
+
 std::string provenance_json(const ConvertRequest& request, const ConvertResult& r, const RobotModel& model) {
   const MotionSourceInfo& src = r.clip.human.source;
   nlohmann::json j;
@@ -69,6 +79,7 @@ std::string provenance_json(const ConvertRequest& request, const ConvertResult& 
   j["robot_config"] = {{"path", model.config().config_path}, {"sha256", sha256_file(model.config().config_path)}};
   j["urdf_sha256"] = sha256_file(model.config().urdf_path);
   j["pipeline"] = r.pipeline;
+  j["options_sha256"] = convert_options_sha256(request);
   nlohmann::json passes = nlohmann::json::array();
   for (const PassRecord& p : r.passes)
     passes.push_back({{"name", p.name}, {"options", p.options}, {"time_ms", p.time_ms}, {"statistics", statistics_json(p.statistics)}});
@@ -93,6 +104,24 @@ std::string output_stem_for(const ConvertRequest& request) {
   return request.output;
 }
 
+std::string convert_options_sha256(const ConvertRequest& request) {
+  const MotionLoadOptions& m = request.motion;
+  std::string text = "retarget-convert-options 1\n";
+  text += std::string("tool ") + kVersion + "\n";
+  text += "pipeline " + make_pipeline(request).to_string() + "\n";
+  text += "formats";
+  for (ReferenceFormat f : request.formats) text += std::string(" ") + reference_format_name(f);
+  text += "\n";
+  text += "source_units " + (m.source_units ? "=" + *m.source_units : std::string("auto")) + "\n";
+  text += "source_fps " + (m.source_fps ? format("=%.17g", *m.source_fps) : std::string("auto")) + "\n";
+  text += "up_axis " + (m.up_axis ? "=" + *m.up_axis : std::string("auto")) + "\n";
+  text += "profile " + (m.profile_path.empty() ? std::string("none") : sha256_file(m.profile_path)) + "\n";
+  text += format("drop_tpose %d\nmax_gap_s %.17g\n", m.drop_tpose ? 1 : 0, m.max_gap_s);
+  text += format("normalize %d %d %.17g\n", m.normalize.align_start ? 1 : 0, m.normalize.move_floor_to_zero ? 1 : 0,
+                 m.normalize.floor_percentile);
+  return sha256_hex(text);
+}
+
 ConvertResult run_convert(const ConvertRequest& request, const RobotModel& model) {
   const auto t0 = std::chrono::steady_clock::now();
   ConvertResult r;
@@ -100,11 +129,7 @@ ConvertResult run_convert(const ConvertRequest& request, const RobotModel& model
   r.clip.human = load_motion(request.clip_path, request.motion);
   r.load_ms = ms_since(t0);
 
-  Pipeline pipeline = request.passes.empty() ? Pipeline::default_pipeline(builtin_passes(), request.disabled_passes)
-                                             : Pipeline::parse(request.passes, builtin_passes());
-  if (request.passes.empty() || request.fps != 30.0) pipeline.set_option_everywhere("fps", format("%.17g", request.fps));
-  if (request.time_scale != 1.0 && pipeline.set_option_everywhere("time_scale", format("%.17g", request.time_scale)) == 0)
-    throw InputError("--time-scale", "the pipeline has no retime pass");
+  Pipeline pipeline = make_pipeline(request);
   r.pipeline = pipeline.to_string();
   RobotData data(model);
   r.passes = pipeline.run(r.clip, &model, &data);

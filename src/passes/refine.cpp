@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>  // DEBUG-REMOVE
-#include <cstdlib>  // DEBUG-REMOVE
 
 #include "retarget/core/error.hpp"
 #include "retarget/core/strings.hpp"
@@ -25,7 +23,6 @@ namespace {
 
 using refine::CollocationPoint;
 using refine::NlpRobot;
-using refine::SplineSupport;
 using refine::StanceAnchor;
 using refine::WindowSpec;
 
@@ -65,6 +62,7 @@ RefinePass::RefinePass() {
   table_.add("interpolated_weight", options_.interpolated_weight, "weight factor of gap-filled landmark samples");
   table_.add("stance_weight", options_.stance_weight, "weight factor of foot landmarks in stance");
   table_.add("velocity_margin", options_.velocity_margin, "fraction of each velocity limit kept free");
+  table_.add("velocity_activation", options_.velocity_activation, "velocity rows enter the NLP above this fraction of their bound");
   table_.add("limit_margin", options_.limit_margin, "[rad, m] distance kept from the joint position limits");
   table_.add("floor_check_height", options_.floor_check_height, "[m] swing-foot corners below this are kept above the floor");
   table_.add("max_iterations", options_.max_iterations, "Ipopt iterations per window");
@@ -83,12 +81,16 @@ void RefinePass::run(Clip& clip, PassContext& ctx) {
   if (!clip.targets[Landmark::Pelvis].present) throw InternalError("refine: run the scale pass first");
   require_input(o.knot_fps > 0 && o.window >= 5 && o.overlap >= 3 && o.overlap < o.window, "refine",
                 "options need knot_fps > 0, window >= 5 and 3 <= overlap < window");
-  require_input(o.acceleration_weight >= 0 && o.pull_weight >= 0 && o.velocity_margin >= 0 && o.velocity_margin < 1,
-                "refine", "weights must be >= 0 and velocity_margin in [0, 1)");
+  require_input(o.acceleration_weight >= 0 && o.pull_weight >= 0 && o.velocity_margin >= 0.001 && o.velocity_margin < 1 &&
+                    o.velocity_activation >= 0 && o.limit_margin >= 0 && o.interpolated_weight >= 0 && o.stance_weight >= 0,
+                "refine", "weights and margins must be >= 0, velocity_margin in [0.001, 1)");
+  require_input(o.max_iterations >= 1 && o.tolerance > 0 && o.mu_init > 0, "refine",
+                "max_iterations must be >= 1, tolerance and mu_init > 0");
   if (T < 4 || !(motion.fps > 0)) {
     ctx.statistics.set("skipped", 1, "", "fewer than 4 frames");
     return;
   }
+  const auto t_start = std::chrono::steady_clock::now();
   const double fps = motion.fps;
   const int nq = model.nq(), nv = model.nv();
 
@@ -135,7 +137,6 @@ void RefinePass::run(Clip& clip, PassContext& ctx) {
     return;
   }
 
-  const auto t_start = std::chrono::steady_clock::now();
   const NlpRobot robot(model, o.limit_margin);
   const int stride = std::max(1, static_cast<int>(std::lround(fps / o.knot_fps)));
   const int N = refine::spline_num_controls(T, stride);
@@ -172,32 +173,24 @@ void RefinePass::run(Clip& clip, PassContext& ctx) {
     }
   }
 
-  if (std::getenv("RT_SOLEDBG")) {  // DEBUG-REMOVE
-    std::vector<double> zs;  // DEBUG-REMOVE
-    for (int f = 0; f < T; ++f) {  // DEBUG-REMOVE
-      update_kinematics(model, data, q_in.col(f));  // DEBUG-REMOVE
-      for (int foot = 0; foot < 2; ++foot) if (phase_of[foot][f] >= 0) zs.push_back(link_point(model, data, model.soles()[foot].link, model.soles()[foot].p_L_center).z());  // DEBUG-REMOVE
-    }  // DEBUG-REMOVE
-    std::sort(zs.begin(), zs.end());  // DEBUG-REMOVE
-    if (!zs.empty()) std::printf("stance sole z: p5 %.4f median %.4f p95 %.4f\n", zs[zs.size()/20], zs[zs.size()/2], zs[zs.size()*19/20]);  // DEBUG-REMOVE
-  }  // DEBUG-REMOVE
   // ---- collocation points: every knot frame and the last frame ----
   const LandmarkIk ik(model);
   std::vector<CollocationPoint> points;
   // Stance boundaries are collocated too, so that a foot is at its anchor from the first frame of
-  // its stance phase (foot skating is measured from there), not only from the next knot. A knot
-  // closer than half a stride to such a frame (or to the last frame) is not collocated: two
-  // collocation frames a frame or two apart would repeat nearly the same constraint rows and make
-  // the KKT systems ill-conditioned.
+  // its stance phase (foot skating is measured from there), not only from the next knot, and lands
+  // and lifts off at rest (still rows). A knot closer than a stride to such a frame (or to the last
+  // frame) is not collocated: collocation frames closer than a spline segment repeat nearly the same
+  // constraint rows and make the KKT systems ill-conditioned (measured with half a stride: Ipopt
+  // stalled on a third of the windows). Boundaries of the two feet are all kept, however close:
+  // dropping one cost several millimetres of skating and no measured clip stalled on them.
   std::vector<int> frames, fixed_frames{T - 1};
-  if (!std::getenv("RT_NOBOUND"))  // DEBUG-REMOVE
   for (const Phase& ph : phases) {
     fixed_frames.push_back(ph.begin);
     fixed_frames.push_back(ph.end - 1);
   }
   std::sort(fixed_frames.begin(), fixed_frames.end());
   fixed_frames.erase(std::unique(fixed_frames.begin(), fixed_frames.end()), fixed_frames.end());
-  const int min_gap = std::max(1, stride / 2);
+  const int min_gap = stride;
   for (int f = 0; f < T; f += stride) {
     const auto it = std::lower_bound(fixed_frames.begin(), fixed_frames.end(), f - min_gap + 1);
     if (it == fixed_frames.end() || *it >= f + min_gap) frames.push_back(f);
@@ -231,6 +224,20 @@ void RefinePass::run(Clip& clip, PassContext& ctx) {
     points.push_back(std::move(p));
   }
 
+  // A foot lands and lifts off at rest: zero sole velocity at each phase's first and last
+  // collocation frame (its boundary frames unless merged above).
+  for (std::size_t g = 0; g < phases.size(); ++g) {
+    const auto k = static_cast<std::size_t>(phases[g].foot);
+    CollocationPoint* first = nullptr;
+    CollocationPoint* last = nullptr;
+    for (CollocationPoint& p : points)
+      if (p.stance[k] == static_cast<int>(g)) {
+        if (!first) first = &p;
+        last = &p;
+      }
+    if (first) first->still[k] = last->still[k] = true;
+  }
+
   // ---- windows over the control points ----
   std::vector<std::pair<int, int>> windows;  // [first, last] control points
   if (N <= o.window) {
@@ -249,14 +256,88 @@ void RefinePass::run(Clip& clip, PassContext& ctx) {
   weights.acceleration = o.acceleration_weight;
   weights.pull = o.pull_weight;
   weights.velocity_margin = o.velocity_margin;
+  weights.velocity_activation = o.velocity_activation;
   refine::IpoptSettings settings;
   settings.max_iterations = o.max_iterations;
   settings.tolerance = o.tolerance;
   settings.mu_init = o.mu_init;
 
-  int failed = 0, iterations = 0;
+  // Two stages per window (see the header): the coordinates that move a foot, with the contact
+  // constraints; then the others with those fixed.
+  std::vector<std::uint8_t> feet_coordinates = robot.moves_feet, other_coordinates(static_cast<std::size_t>(nv));
+  for (int i = 0; i < nv; ++i) other_coordinates[static_cast<std::size_t>(i)] = !robot.moves_feet[static_cast<std::size_t>(i)];
+  const bool has_other = std::find(other_coordinates.begin(), other_coordinates.end(), 1) != other_coordinates.end();
+
+  // Swing-foot corners of a solution below the floor at collocation frames whose floor rows were
+  // left out (the initial guess had that foot high): flags them; returns how many were added.
+  auto add_floor_rows = [&](WindowSpec& spec, const MatX& C_window) {
+    int added = 0;
+    for (CollocationPoint& p : spec.points) {
+      bool evaluated = false;
+      for (int foot = 0; foot < 2; ++foot) {
+        const auto k = static_cast<std::size_t>(foot);
+        if (p.stance[k] >= 0 || p.floor[k]) continue;
+        if (!evaluated) {
+          VecX x = VecX::Zero(nv);
+          for (int m = 0; m < p.support.count; ++m)
+            x += p.support.weight[static_cast<std::size_t>(m)] * C_window.col(p.support.index[static_cast<std::size_t>(m)] - spec.first_control);
+          VecX q(nq);
+          refine::q_from_chart(x, q);
+          update_kinematics(model, data, q);
+          evaluated = true;
+        }
+        const Sole& sole = model.soles()[k];
+        const Iso3 X = link_pose(model, data, sole.link);
+        for (const Vec3& c : sole.corners_L())
+          if ((X * c).z() < 0) {
+            p.floor[k] = true;
+            ++added;
+            break;
+          }
+      }
+    }
+    return added;
+  };
+
+  int failed = 0, iterations = 0, solves = 0, velocity_resolves = 0, floor_resolves = 0;
   double objective = 0, violation = 0, solve_s = 0;
   std::string failures;
+  // Solves one stage of a window; when the solution violates a velocity row or a floor row that
+  // was left out, adds those rows (and the velocity rows the solution uses beyond
+  // velocity_activation of their bound, which the next solve may push over) and solves again from
+  // that solution: an active set, at most 5 rounds. Returns false when Ipopt failed or a row is
+  // still violated.
+  auto solve_stage = [&](WindowSpec& spec, bool contact_rows, MatX& C_out, std::vector<StanceAnchor>& anchors_out,
+                         std::string& status) {
+    for (int round = 0;; ++round) {
+      refine::WindowNlp nlp(robot, data, spec, weights);
+      VecX x;
+      const refine::IpoptReport r = refine::solve_window(nlp, settings, x);
+      ++solves;
+      iterations += r.iterations;
+      solve_s += r.wall_s;
+      status = r.status_text;
+      if (!r.success) return false;
+      C_out = nlp.controls(x.data());
+      anchors_out = nlp.anchors(x.data());
+      // Rows in the NLP hold to the solver's constraint tolerance, which the velocity margin covers.
+      const bool velocity_ok = nlp.velocity_rows_above(C_out, 1.0, 2 * settings.acceptable_constraint_tolerance).empty();
+      const int floor_added = contact_rows ? add_floor_rows(spec, C_out) : 0;
+      if ((velocity_ok && floor_added == 0) || round == 4) {
+        objective += r.objective;
+        violation = std::max(violation, r.constraint_violation);
+        if (!velocity_ok) status = "velocity rows still violated after 5 solves";
+        return velocity_ok;
+      }
+      if (!velocity_ok) ++velocity_resolves;
+      if (floor_added > 0) ++floor_resolves;
+      if (spec.forced_velocity_rows.empty()) spec.forced_velocity_rows.assign(static_cast<std::size_t>(spec.controls.cols() * nv), 0);
+      for (int v : nlp.velocity_rows_above(C_out, o.velocity_activation)) spec.forced_velocity_rows[static_cast<std::size_t>(v)] = 1;
+      spec.controls = C_out;
+      spec.anchors = anchors_out;
+    }
+  };
+
   for (std::size_t w = 0; w < windows.size(); ++w) {
     const auto [a, b] = windows[w];
     WindowSpec spec;
@@ -296,29 +377,47 @@ void RefinePass::run(Clip& clip, PassContext& ctx) {
     }
     for (std::size_t l = 0; l < spec.anchors.size(); ++l)
       if (!spec.anchors[l].fixed && anchor_samples[l] > 0) spec.anchors[l].p_W /= anchor_samples[l];
-
-    refine::WindowNlp nlp(robot, data, spec, weights);
-    VecX x;
-    const refine::IpoptReport r = refine::solve_window(nlp, settings, x);
-    iterations += r.iterations;
-    solve_s += r.wall_s;
-    if (!r.success) {
+    const auto report_failure = [&](const std::string& stage, const std::string& status) {
       ++failed;
-      failures += format("%s%d-%d (%s)", failures.empty() ? "" : ", ", std::clamp((a - 1) * stride, 0, T - 1),
-                         std::clamp((b - 1) * stride, 0, T - 1), r.status_text.c_str());
+      failures += format("%s%d-%d (%s: %s)", failures.empty() ? "" : ", ", std::clamp((a - 1) * stride, 0, T - 1),
+                         std::clamp((b - 1) * stride, 0, T - 1), stage.c_str(), status.c_str());
+    };
+
+    // Stage 1: root and legs, with the stance and floor constraints.
+    WindowSpec feet = spec;
+    feet.free_coordinates = feet_coordinates;
+    MatX C_feet;
+    std::vector<StanceAnchor> anchors;
+    std::string status;
+    if (!solve_stage(feet, true, C_feet, anchors, status)) {
+      report_failure("feet", status);
       continue;  // the window keeps its initial guess
     }
-    objective += r.objective;
-    violation = std::max(violation, r.constraint_violation);
-    const MatX Cw = nlp.controls(x.data());
-    C.middleCols(a + spec.num_pinned, b - a + 1 - spec.num_pinned) = Cw.rightCols(b - a + 1 - spec.num_pinned);
-    const std::vector<StanceAnchor> anchors = nlp.anchors(x.data());
+    const int free_cols = b - a + 1 - spec.num_pinned;
+    C.middleCols(a + spec.num_pinned, free_cols) = C_feet.rightCols(free_cols);
     for (std::size_t g = 0; g < phases.size(); ++g) {
       const int l = local_anchor[g];
       if (l < 0 || phases[g].anchor_known) continue;
       phases[g].anchor_known = true;
       phases[g].anchor = anchors[static_cast<std::size_t>(l)].p_W;
     }
+    if (!has_other) continue;
+
+    // Stage 2: waist, arms and head with the root and legs fixed (no contact rows: they cannot change).
+    WindowSpec upper = spec;
+    upper.controls = C.middleCols(a, b - a + 1);
+    upper.free_coordinates = other_coordinates;
+    upper.anchors.clear();
+    for (CollocationPoint& p : upper.points) {
+      p.stance = {{-1, -1}};
+      p.floor = {{false, false}};
+    }
+    MatX C_upper;
+    if (!solve_stage(upper, false, C_upper, anchors, status)) {
+      report_failure("upper body", status);
+      continue;
+    }
+    C.middleCols(a + spec.num_pinned, free_cols) = C_upper.rightCols(free_cols);
   }
   if (failed > 0)
     ctx.diagnostics.warn(where, format("refine: %d of %zu windows not solved, kept the IK fit there: frames %s", failed,
@@ -347,7 +446,6 @@ void RefinePass::run(Clip& clip, PassContext& ctx) {
       const Vec2 p = (X * sole.p_L_center).head<2>();
       if (f == phases[static_cast<std::size_t>(g)].begin) start[k] = p;
       drift = std::max(drift, (p - start[k]).norm());
-      if (std::getenv("RT_SOLEDBG") && (p - start[k]).norm() > 0.01) std::printf("drift %.3f foot %d frame %d phase %d [%d,%d) pointframe? %d\n", (p - start[k]).norm(), foot, f, g, phases[g].begin, phases[g].end, (int)std::binary_search(frames.begin(), frames.end(), f));  // DEBUG-REMOVE
     }
   }
 
@@ -355,10 +453,12 @@ void RefinePass::run(Clip& clip, PassContext& ctx) {
   ctx.statistics.set("control-points", N);
   ctx.statistics.set("windows", static_cast<double>(windows.size()));
   ctx.statistics.set("failed-windows", failed, "", failed ? "kept the IK fit" : "");
-  ctx.statistics.set("ipopt-iterations", iterations, "", "all windows");
+  ctx.statistics.set("ipopt-solves", solves, "", format("2 stages per window; re-solved with violated velocity rows %d, floor rows %d", velocity_resolves,
+                                                        floor_resolves));
+  ctx.statistics.set("ipopt-iterations", iterations, "", "all solves");
   ctx.statistics.set("final-objective", objective, "", "sum over solved windows");
   ctx.statistics.set("constraint-violation", violation, "", "max over solved windows [m, rad]");
-  ctx.statistics.set("time-per-window", 1e3 * solve_s / static_cast<double>(windows.size()), "ms", "Ipopt solve");
+  ctx.statistics.set("time-per-window", 1e3 * solve_s / static_cast<double>(windows.size()), "ms", "Ipopt solves");
   ctx.statistics.set("collocation-frames", static_cast<double>(points.size()));
   ctx.statistics.set("stance-frames", stance_points, "", "collocation frames x feet held in stance");
   ctx.statistics.set("floor-rows", floor_rows, "", "swing sole corners kept above the floor");

@@ -62,13 +62,15 @@ Pipeline Pipeline::parse(const std::string& spec, const PassRegistry& registry) 
   return pipeline;
 }
 
-Pipeline Pipeline::default_pipeline(const PassRegistry& registry, const std::vector<std::string>& disabled) {
-  for (const std::string& d : disabled)
-    if (!find_pass(registry, d)) make_pass(registry, d);  // throws the "unknown pass" error
+Pipeline Pipeline::default_pipeline(const PassRegistry& registry, const std::vector<std::string>& disabled,
+                                    const std::vector<std::string>& enabled) {
+  for (const auto* names : {&disabled, &enabled})
+    for (const std::string& d : *names)
+      if (!find_pass(registry, d)) make_pass(registry, d);  // throws the "unknown pass" error
+  auto listed = [](const std::vector<std::string>& v, const std::string& n) { return std::find(v.begin(), v.end(), n) != v.end(); };
   Pipeline pipeline;
   for (const PassInfo& p : registry)
-    if (p.in_default_pipeline && std::find(disabled.begin(), disabled.end(), p.name) == disabled.end())
-      pipeline.add(p.make());
+    if ((p.in_default_pipeline || listed(enabled, p.name)) && !listed(disabled, p.name)) pipeline.add(p.make());
   return pipeline;
 }
 

@@ -19,11 +19,14 @@ SplineSupport spline_support(double t, int num_controls) {
   const double u2 = u * u, u3 = u2 * u, v = 1.0 - u;
   const std::array<double, 4> w = {v * v * v / 6.0, (3 * u3 - 6 * u2 + 4) / 6.0, (-3 * u3 + 3 * u2 + 3 * u + 1) / 6.0,
                                    u3 / 6.0};
+  const std::array<double, 4> dw = {-0.5 * v * v, 1.5 * u2 - 2 * u, -1.5 * u2 + u + 0.5, 0.5 * u2};
   SplineSupport s;
   for (int m = 0; m < 4; ++m) {
-    if (std::abs(w[static_cast<std::size_t>(m)]) < 1e-14) continue;
+    const auto k = static_cast<std::size_t>(m);
+    if (std::abs(w[k]) < 1e-14 && std::abs(dw[k]) < 1e-14) continue;
     s.index[static_cast<std::size_t>(s.count)] = i + m;
-    s.weight[static_cast<std::size_t>(s.count)] = w[static_cast<std::size_t>(m)];
+    s.weight[static_cast<std::size_t>(s.count)] = w[k];
+    s.dweight[static_cast<std::size_t>(s.count)] = dw[k];
     ++s.count;
   }
   return s;

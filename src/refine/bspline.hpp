@@ -23,6 +23,7 @@ struct SplineSupport {
   int count = 0;
   std::array<int, 4> index{};
   std::array<double, 4> weight{};
+  std::array<double, 4> dweight{};  ///< d(weight)/dt: the curve's derivative per knot interval
 };
 
 /// Support at parameter t (knot units, 0 <= t <= num_controls − 3).

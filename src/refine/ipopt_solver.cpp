@@ -8,8 +8,6 @@
 #include <cmath>
 #include <exception>
 #include <mutex>
-#include <cstdlib>  // DEBUG-REMOVE
-#include <cstdio>  // DEBUG-REMOVE
 
 namespace rt::refine {
 
@@ -127,15 +125,11 @@ class WindowTnlp final : public Ipopt::TNLP {
       }
       return true;
     }
-    // Gauss–Newton for the objective, exact curvature for the constraints (window_nlp.hpp).
+    // Gauss–Newton for the objective, exact curvature for the constraints (window_nlp.hpp), constraint part convexified.
     if (!ensure(x, new_x)) return false;
     nlp_.lagrangian_hessian(obj_factor, lambda, values);
     for (Index e = 0; e < nele_hess; ++e)
       if (!std::isfinite(values[e])) return false;
-    if (const char* dd = std::getenv("RT_DAMP")) {  // DEBUG-REMOVE
-      const double damp = std::atof(dd);  // DEBUG-REMOVE
-      for (Index e = 0; e < nele_hess; ++e) if (nlp_.hess_rows()[e] == nlp_.hess_cols()[e]) values[e] += damp;  // DEBUG-REMOVE
-    }  // DEBUG-REMOVE
     return true;
   }
 
@@ -154,12 +148,6 @@ class WindowTnlp final : public Ipopt::TNLP {
   bool ensure(const Number* x, bool new_x) {
     if (error_) return false;
     if (new_x || !evaluated_) {
-      if (std::getenv("RT_STEPDBG") && prev_.size() == nlp_.num_variables()) {  // DEBUG-REMOVE
-        VecX d = Eigen::Map<const VecX>(x, nlp_.num_variables()) - prev_;  // DEBUG-REMOVE
-        Eigen::Index i; const double mx = d.cwiseAbs().maxCoeff(&i);  // DEBUG-REMOVE
-        if (mx > 0.05) std::printf("   step %.3f at var %ld (ctrl %ld coord %ld)\n", mx, (long)i, (long)(i / 35), (long)(i % 35));  // DEBUG-REMOVE
-      }  // DEBUG-REMOVE
-      prev_ = Eigen::Map<const VecX>(x, nlp_.num_variables());  // DEBUG-REMOVE
       try {
         nlp_.evaluate(x);
       } catch (...) {
@@ -174,7 +162,6 @@ class WindowTnlp final : public Ipopt::TNLP {
   }
 
   WindowNlp& nlp_;
-  VecX prev_;  // DEBUG-REMOVE
   VecX& x_out_;
   bool evaluated_ = false, valid_ = false, finalized_ = false;
   double objective_ = 0;
@@ -192,8 +179,8 @@ IpoptReport solve_window(WindowNlp& nlp, const IpoptSettings& s, VecX& x) {
     const std::lock_guard<std::mutex> lock(ipopt_mutex());
     Ipopt::SmartPtr<WindowTnlp> tnlp = new WindowTnlp(nlp, x);
     Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
-    app->Options()->SetIntegerValue("print_level", std::getenv("RT_IPOPT_DEBUG") ? std::atoi(std::getenv("RT_IPOPT_DEBUG")) : 0);  // DEBUG-REMOVE
-    app->Options()->SetStringValue("sb", "yes");
+    app->Options()->SetIntegerValue("print_level", 0);
+    app->Options()->SetStringValue("sb", "yes");  // no banner
     app->Options()->SetStringValue("print_user_options", "no");
     app->Options()->SetNumericValue("tol", s.tolerance);
     app->Options()->SetNumericValue("constr_viol_tol", s.constraint_tolerance);
@@ -217,20 +204,6 @@ IpoptReport solve_window(WindowNlp& nlp, const IpoptSettings& s, VecX& x) {
     app->Options()->SetStringValue("jac_c_constant", nlp.num_equalities() == 0 ? "yes" : "no");
     app->Options()->SetStringValue("jac_d_constant", nlp.nonlinear_inequalities() ? "no" : "yes");
     app->Options()->SetStringValue("honor_original_bounds", "yes");
-    if (const char* e = std::getenv("RT_IPOPT_OPTS")) {  // DEBUG-REMOVE
-      std::string all = e;  // DEBUG-REMOVE
-      size_t pos = 0;  // DEBUG-REMOVE
-      while (pos < all.size()) {  // DEBUG-REMOVE
-        size_t end = all.find(';', pos); if (end == std::string::npos) end = all.size();  // DEBUG-REMOVE
-        const std::string kv = all.substr(pos, end - pos); pos = end + 1;  // DEBUG-REMOVE
-        const size_t eq = kv.find('='); if (eq == std::string::npos) continue;  // DEBUG-REMOVE
-        const std::string k = kv.substr(0, eq), v = kv.substr(eq + 1);  // DEBUG-REMOVE
-        char* endp = nullptr; const double d = std::strtod(v.c_str(), &endp);  // DEBUG-REMOVE
-        if (*endp == 0 && v.find('.') == std::string::npos && v.find('e') == std::string::npos) app->Options()->SetIntegerValue(k, static_cast<int>(d));  // DEBUG-REMOVE
-        else if (*endp == 0) app->Options()->SetNumericValue(k, d);  // DEBUG-REMOVE
-        else app->Options()->SetStringValue(k, v);  // DEBUG-REMOVE
-      }  // DEBUG-REMOVE
-    }  // DEBUG-REMOVE
     Ipopt::ApplicationReturnStatus status = app->Initialize("");  // "": a stray ./ipopt.opt is ignored
     if (status == Ipopt::Solve_Succeeded) status = app->OptimizeTNLP(Ipopt::GetRawPtr(tnlp));
     report.status = static_cast<int>(status);

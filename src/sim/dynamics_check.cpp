@@ -49,6 +49,47 @@ int joint_group(const std::string& name) {
   return 1;
 }
 
+std::vector<int> tracking_contact_feet(const std::array<bool, 2>& contact) {
+  std::vector<int> feet;
+  for (int f = 0; f < 2; ++f)
+    if (contact[static_cast<std::size_t>(f)]) feet.push_back(f);
+  return feet;
+}
+
+struct ForceCheck {
+  bool any = false, pulling = false, sliding = false, cop_outside = false;
+  double worst_friction_ratio = 0;
+  std::array<Vec3, 2> force_W{{Vec3::Zero(), Vec3::Zero()}};
+};
+
+// Whether the commanded contact wrenches (force; moment at the sole centre, per foot in `feet`) can
+// be produced by a rigid flat floor with friction coefficient mu under the sole rectangles.
+ForceCheck check_wrenches(const RobotModel& model, const TrackingCommand& cmd, const std::vector<int>& feet,
+                          const std::array<Iso3, 2>& X_W_sole, double mu) {
+  ForceCheck c;
+  for (std::size_t i = 0; i < feet.size(); ++i) {
+    const auto f = static_cast<std::size_t>(feet[i]);
+    const Vec6 w = cmd.f_contact.segment<6>(static_cast<Eigen::Index>(6 * i));
+    c.any = true;
+    c.force_W[f] = w.head<3>();
+    // Tolerance: the QP puts wrenches exactly on these limits (f_z = 0 for a foot about to lift).
+    constexpr double kTolN = 1e-3;
+    const double fz = w[2];
+    if (fz < -kTolN) c.pulling = true;
+    if (fz <= kTolN) continue;
+    const double ft = w.head<2>().norm();
+    c.worst_friction_ratio = std::max(c.worst_friction_ratio, ft / (mu * fz));
+    if (ft > mu * fz + kTolN) c.sliding = true;
+    // Centre of pressure of this foot relative to its sole centre: n_x = d_y f_z, n_y = −d_x f_z.
+    const Vec3 d_W(-w[4] / fz, w[3] / fz, 0);
+    const Vec3 d_S = flat_on_floor(X_W_sole[f]).linear().transpose() * d_W;
+    const Sole& sole = model.soles()[f];
+    if (std::abs(d_S.x()) > 0.5 * sole.size_m.x() + 1e-6 || std::abs(d_S.y()) > 0.5 * sole.size_m.y() + 1e-6)
+      c.cop_outside = true;
+  }
+  return c;
+}
+
 }  // namespace
 
 DynamicsCheckOptions default_check_options(const RobotModel& model) {
@@ -77,7 +118,7 @@ DynamicsCheckOptions default_check_options(const RobotModel& model) {
 DynamicsCheckResult run_dynamics_check(const RobotModel& model, const Reference& reference, const DynamicsCheckOptions& o) {
   const auto wall0 = std::chrono::steady_clock::now();
   RobotData ref_data(model), ctrl_data(model);
-  const ReferenceSignal signal(model, ref_data, reference);
+  const ReferenceSignal signal(model, ref_data, reference, o.com_smoothing_s);
   Plant plant(model);
   const int nu = model.nu();
   const double dt_sim = model.config().simulation.timestep_s;
@@ -85,6 +126,7 @@ DynamicsCheckResult run_dynamics_check(const RobotModel& model, const Reference&
   const double dt_ctrl = substeps * dt_sim;
   const double weight_n = model.total_mass_kg() * kGravity;
   const double load_threshold_n = o.contact_force_fraction * weight_n;
+  const double friction = model.config().simulation.friction;
 
   BalanceOptions bo = o.balance;
   bo.control_period_s = dt_ctrl;
@@ -93,6 +135,7 @@ DynamicsCheckResult run_dynamics_check(const RobotModel& model, const Reference&
   const ComReplanner planner(balance.closed_loop_model(o.replan.period_s), o.replan);
   const int N = o.replan.horizon;
   const double dt_plan = o.replan.period_s;
+  const double omega_sq = balance.model().omega_sq();
 
   DynamicsCheckResult res;
   res.clip_duration_s = signal.duration_s();
@@ -118,6 +161,11 @@ DynamicsCheckResult run_dynamics_check(const RobotModel& model, const Reference&
   Eigen::Matrix2Xd com_delta = Eigen::Matrix2Xd::Zero(2, K);
   auto clip_time = [&](double t_sim) { return std::clamp(t_sim - o.settle_s, 0.0, signal.duration_s()); };
   auto original_com = [&](double t_sim) -> Vec2 { return signal.com_at(clip_time(t_sim), map).head<2>(); };
+  // Balance reference of the original (trunk-mapped) reference COM motion, without re-planning.
+  auto balance_reference = [&](double t_sim) -> BalanceReference {
+    if (!o.balance_feedforward) return BalanceReference::at_rest(original_com(t_sim));
+    return BalanceReference::from_com_motion(signal.com_motion_at(t_sim - o.settle_s, map), omega_sq);
+  };
   auto delta_at = [&](double t_sim) -> Vec2 {
     const double s = std::clamp(t_sim / dt_plan, 0.0, static_cast<double>(K - 1));
     const int k = std::min(static_cast<int>(s), K - 2);
@@ -158,6 +206,10 @@ DynamicsCheckResult run_dynamics_check(const RobotModel& model, const Reference&
   long joint_n = 0, clip_ticks = 0, cop_n = 0;
   double next_record = 0, next_plan = 0;
   std::map<int, SupportFrame> support_cache;  // per reference frame, rebuilt every planner tick
+  Eigen::Matrix2Xd y_offset(2, N);            // reference COP over the planner's window
+  TrackingProblem tproblem;                   // tracking controller storage, reused every cycle
+  TrackingWorkspace tworkspace;
+  TrackingCommand cmd;
 
   for (long tick = 0;; ++tick) {
     const double t_sim = plant.time_s();
@@ -233,8 +285,19 @@ DynamicsCheckResult run_dynamics_check(const RobotModel& model, const Reference&
     if (o.dynamic_mapping && t_sim + 1e-12 >= next_plan) {
       next_plan += dt_plan;
       const int k0 = std::min(static_cast<int>(std::lround(t_sim / dt_plan)), K - N - 1);
+      // Eq. (25)-(27): with feed-forward in error coordinates (x0 = ŝ − s_ref, U = δ, plus the
+      // reference COP), else the paper's (x0 = ŝ, U = c_ref + δ).
       Eigen::Matrix2Xd U(2, N);
-      for (int j = 0; j < N; ++j) U.col(j) = original_com(t_sim + j * dt_plan) + com_delta.col(k0 + j);
+      Mat42 x0 = bstate.s_hat;
+      if (o.balance_feedforward) {
+        x0 -= balance_reference(t_sim).s_ref;
+        for (int j = 0; j < N; ++j) {
+          U.col(j) = com_delta.col(k0 + j);
+          y_offset.col(j) = balance_reference(t_sim + (j + 1) * dt_plan).cop();
+        }
+      } else {
+        for (int j = 0; j < N; ++j) U.col(j) = original_com(t_sim + j * dt_plan) + com_delta.col(k0 + j);
+      }
       support_cache.clear();
       const auto support = [&](int j) -> const SupportFrame& {
         const double tj = clip_time(t_sim + j * dt_plan);
@@ -268,7 +331,7 @@ DynamicsCheckResult run_dynamics_check(const RobotModel& model, const Reference&
         return support_cache.emplace(frame, std::move(s)).first->second;
       };
       const Eigen::Matrix2Xd before = U;
-      const auto event = planner.step(bstate.s_hat, U, support);
+      const auto event = planner.step(x0, U, support, o.balance_feedforward ? &y_offset : nullptr);
       if (event) {
         com_delta.middleCols(k0, N) += U - before;
         res.replans.push_back({std::max(t_clip, -o.settle_s), *event});
@@ -278,10 +341,13 @@ DynamicsCheckResult run_dynamics_check(const RobotModel& model, const Reference&
     }
 
     // --- balance controller (eq. 1) -------------------------------------------------------------
-    const Vec2 c_ref = original_com(t_sim) + delta_at(t_sim);
+    const Vec2 delta = delta_at(t_sim);
+    const Vec2 c_ref = original_com(t_sim) + delta;
     const bool touching = contacts.normal_force_n > 1e-6;
     const Vec2 p_meas = touching ? contacts.cop_W : bstate.desired_cop();
-    const Vec2 p_des = balance.step(bstate, c_ref, com.head<2>(), p_meas);
+    BalanceReference bref = balance_reference(t_sim);
+    bref.add_com_offset(delta);
+    const Vec2 p_des = balance.step(bstate, bref, com.head<2>(), p_meas);
 
     // --- feet: a loaded stance foot is held where it is (no position feedback: the floor, not the
     // controller, decides its height, and soft contact sinks it a little); a stance foot not yet
@@ -292,6 +358,15 @@ DynamicsCheckResult run_dynamics_check(const RobotModel& model, const Reference&
     tr.a = r.a;
     tr.contact = r.contact;
     tr.desired_cop_W = p_des;
+    if (o.root_follows_com) {
+      // Trunk reference relative to the COM the balance controller steers: original offset of the
+      // trunk from the reference COM, placed at the estimated COM; its acceleration is the one the
+      // desired COP gives the pendulum.
+      const Eigen::Matrix<double, 5, 2> cm = signal.com_motion_at(t_clip, map);
+      tr.q.head<2>() += bstate.com() - cm.row(0).transpose();
+      tr.v.head<2>() += bstate.com_velocity() - cm.row(1).transpose();
+      tr.a.head<2>() += omega_sq * (bstate.com() - p_des) - cm.row(2).transpose();
+    }
     for (int f = 0; f < 2; ++f) {
       const auto fi = static_cast<std::size_t>(f);
       const Sole& sole = model.soles()[fi];
@@ -317,11 +392,44 @@ DynamicsCheckResult run_dynamics_check(const RobotModel& model, const Reference&
     }
 
     // --- tracking controller (eq. 2-19) ---------------------------------------------------------
-    const TrackingCommand cmd = tracking.compute(ctrl_data, q, v, tr, /*data_is_current=*/true);
+    tracking.build(ctrl_data, q, v, tr, tproblem, tworkspace, /*data_is_current=*/true);
+    tracking.solve(tproblem, cmd, tworkspace);
 
     // --- monitors (clip time only) -------------------------------------------------------------
     if (!settling) {
       ++clip_ticks;
+      // Feasibility of the commanded wrenches (f = (force; moment) at each sole centre).
+      std::array<Vec3, 2> f_cmd{{Vec3::Zero(), Vec3::Zero()}};
+      {
+        ForceCheck fc = check_wrenches(model, cmd, tracking_contact_feet(tr.contact), tr.X_W_sole, friction);
+        DynamicsCheckResult::ForceFeasibility& ff = res.force_feasibility;
+        if (!cmd.closed_form_feasible) ++ff.closed_form_infeasible;
+        ff.max_qp_iterations = std::max(ff.max_qp_iterations, cmd.qp_iterations);
+        if (cmd.qp_status != QpStatus::Solved) ++ff.qp_failures;
+        if (fc.any) {
+          ++ff.cycles;
+          ff.pulling += fc.pulling;
+          ff.sliding += fc.sliding;
+          ff.cop_outside += fc.cop_outside;
+          ff.worst_friction_ratio = std::max(ff.worst_friction_ratio, fc.worst_friction_ratio);
+        }
+        f_cmd = fc.force_W;
+      }
+      Vec2 cop_cmd = kNaN2;
+      {
+        // COP of the commanded wrenches: horizontal moment about the floor point p vanishes.
+        Vec3 F = Vec3::Zero(), N = Vec3::Zero();
+        const std::vector<int> feet = tracking_contact_feet(tr.contact);
+        for (std::size_t i = 0; i < feet.size(); ++i) {
+          const Vec6 w = cmd.f_contact.segment<6>(static_cast<Eigen::Index>(6 * i));
+          const Sole& sole = model.soles()[static_cast<std::size_t>(feet[i])];
+          const Vec3 r = link_pose(model, ctrl_data, sole.link) * sole.p_L_center;
+          F += w.head<3>();
+          N += r.cross(w.head<3>()) + w.tail<3>();
+        }
+        if (F.z() > 1e-6) cop_cmd = Vec2(-N.y() / F.z(), N.x() / F.z());
+      }
+      std::array<double, 2> foot_speed{};
       const VecX dq = r.q.tail(nu) - q.tail(nu);
       joint_sq += dq.squaredNorm();
       joint_n += nu;
@@ -346,6 +454,7 @@ DynamicsCheckResult run_dynamics_check(const RobotModel& model, const Reference&
         no_lift_off[fi].update(t_clip, stuck, fn, stuck ? format("%s still carries %.0f N", foot_name[f], fn) : "", out);
         const MatX J = link_jacobian(model, ctrl_data, sole.link, sole.p_L_center);
         const double speed = (J.topRows(2) * v).norm();
+        foot_speed[fi] = speed;
         const bool sliding = r.contact[fi] && loaded[fi] && speed > o.slip_speed_mps;
         slip[fi].update(t_clip, sliding, speed, sliding ? format("%s sole slides at %.3f m/s", foot_name[f], speed) : "", out);
         if (loaded[fi]) {
@@ -415,6 +524,10 @@ DynamicsCheckResult run_dynamics_check(const RobotModel& model, const Reference&
         tr_out.contact_ref.push_back(r.contact);
         tr_out.contact_actual.push_back(loaded);
         tr_out.foot_force_n.push_back({contacts.feet[0].normal_force_n, contacts.feet[1].normal_force_n});
+        tr_out.foot_force_cmd_W.push_back(f_cmd);
+        tr_out.foot_force_W.push_back({contacts.feet[0].force_W, contacts.feet[1].force_W});
+        tr_out.cop_commanded_W.push_back(cop_cmd);
+        tr_out.foot_speed_mps.push_back(foot_speed);
         std::array<double, 4> sq{}, n{};
         for (int i = 0; i < nu; ++i) {
           const auto g = static_cast<std::size_t>(group[static_cast<std::size_t>(i)]);

@@ -1,7 +1,9 @@
 #include "retarget/sim/reference_signal.hpp"
 
+#include <algorithm>
 #include <cmath>
 
+#include "retarget/balance/com_motion.hpp"
 #include "retarget/core/error.hpp"
 #include "retarget/reference/robot_mapping.hpp"
 #include "retarget/model/kinematics.hpp"
@@ -29,7 +31,8 @@ Vec3 rotation_vector(const Mat3& R) {
 
 }  // namespace
 
-ReferenceSignal::ReferenceSignal(const RobotModel& model, RobotData& data, const Reference& ref) : model_(&model) {
+ReferenceSignal::ReferenceSignal(const RobotModel& model, RobotData& data, const Reference& ref, double com_smoothing_s)
+    : model_(&model) {
   const int T = ref.num_frames();
   if (T < 1) throw InputError("reference", "no frames");
   if (!ref.has_contacts()) throw InternalError("ReferenceSignal: the reference needs a contact schedule");
@@ -69,6 +72,7 @@ ReferenceSignal::ReferenceSignal(const RobotModel& model, RobotData& data, const
       sole_[static_cast<std::size_t>(foot)][static_cast<std::size_t>(k)] = X;
     }
   }
+  com_derivatives_ = com_derivatives(com_.topRows(2), fps_, com_smoothing_s);
   // Foot velocities and accelerations by central differences of the poses.
   for (int foot = 0; foot < 2; ++foot) {
     const auto& X = sole_[static_cast<std::size_t>(foot)];
@@ -86,6 +90,24 @@ ReferenceSignal::ReferenceSignal(const RobotModel& model, RobotData& data, const
       if (b > a) A.col(k) = (V.col(b) - V.col(a)) / ((b - a) * dt);
     }
   }
+}
+
+Eigen::Matrix<double, 5, 2> ReferenceSignal::com_motion_at(double t_s, const TrunkTransform& map) const {
+  const int T = num_frames();
+  const bool inside = t_s >= 0 && t_s <= duration_s_;
+  const double s = std::clamp(t_s, 0.0, duration_s_) * fps_;
+  const int k = std::min(static_cast<int>(std::floor(s)), T - 1);
+  const int k1 = std::min(k + 1, T - 1);
+  const double w = s - k;
+  Eigen::Matrix<double, 5, 2> out = Eigen::Matrix<double, 5, 2>::Zero();
+  out.row(0) = map.apply_position((1 - w) * com_.col(k) + w * com_.col(k1)).head<2>().transpose();
+  if (!inside) return out;
+  const Mat2 L = map.linear().topLeftCorner<2, 2>();
+  for (std::size_t order = 0; order < com_derivatives_.size(); ++order) {
+    const Eigen::Matrix2Xd& d = com_derivatives_[order];
+    out.row(static_cast<Eigen::Index>(order) + 1) = (L * ((1 - w) * d.col(k) + w * d.col(k1))).transpose();
+  }
+  return out;
 }
 
 std::array<bool, 2> ReferenceSignal::contact_at(double t_s) const {
@@ -117,11 +139,12 @@ ReferenceSample ReferenceSignal::at(double t_s, const TrunkTransform& map) const
   r.contact = contact_at(t_s);
   // Map the root: position by eq. (22), orientation by eq. (23), velocities rotated by Ω.
   const Mat3 Omega = map.Omega();
+  const Mat3 L = map.linear();  // positions map affinely: their derivatives by the linear part
   r.q.head<3>() = map.apply_position(r.q.head<3>());
   const Quat q_root = map.apply_orientation(Quat(r.q[3], r.q[4], r.q[5], r.q[6]));
   r.q.segment<4>(3) << q_root.w(), q_root.x(), q_root.y(), q_root.z();
-  r.v.head<3>() = Omega * r.v.head<3>();
-  r.a.head<3>() = Omega * r.a.head<3>();  // angular parts are in the root frame: unchanged
+  r.v.head<3>() = L * r.v.head<3>();
+  r.a.head<3>() = L * r.a.head<3>();  // angular parts are in the root frame: unchanged
   for (int foot = 0; foot < 2; ++foot) {
     const auto f = static_cast<std::size_t>(foot);
     const Iso3& Xa = sole_[f][static_cast<std::size_t>(k)];
@@ -132,9 +155,9 @@ ReferenceSample ReferenceSignal::at(double t_s, const TrunkTransform& map) const
     r.X_W_sole[f] = X;
     Vec6 v = (1 - w) * sole_v_[f].col(k) + w * sole_v_[f].col(k1);
     Vec6 a = (1 - w) * sole_a_[f].col(k) + w * sole_a_[f].col(k1);
-    v.head<3>() = Omega * v.head<3>().eval();
+    v.head<3>() = L * v.head<3>().eval();
     v.tail<3>() = Omega * v.tail<3>().eval();
-    a.head<3>() = Omega * a.head<3>().eval();
+    a.head<3>() = L * a.head<3>().eval();
     a.tail<3>() = Omega * a.tail<3>().eval();
     r.v_sole[f] = v;
     r.a_sole[f] = a;

@@ -8,11 +8,25 @@
 ///
 /// Per axis:
 ///   plant          ṡ = A s + B a                         (pendulum_model.hpp)
-///   feedback       a = −K (ŝ − E c_ref)                  (LQR, weights Q and R)
+///   feedback       a = a_ref − K (ŝ − s_ref)             (LQR, weights Q and R)
 ///   observer       ŝ̇ = A ŝ + B a + L (y_m − C_m ŝ),  y_m = (c_meas, p_meas),  C_m = [I₂ 0]
-///   => eq. (1)     ŝ̇ = A_b ŝ + B_b u_b,  u_b = (c_ref, c_meas, p_meas)
+///   => eq. (1)     ŝ̇ = A_b ŝ + B_b u_b,  u_b = (s_ref, a_ref, c_meas, p_meas)
 ///   prediction     s⁺ = A_d s + B_d c_ref,  y = C s = p     (eq. 25–26: no observer, closed loop
 ///                  of the model itself, discretised exactly at the planner's period)
+///
+/// The reference state. The paper's regulator drives the state to s_ref = E c_ref = (c_ref, c_ref,
+/// 0, 0) with a_ref = 0: right for a COM reference at rest, but a moving reference is then tracked
+/// with a lag of the order of velocity × 0.3 s (12 cm on a 0.15 m / 0.7 s shift) and the desired
+/// COP ignores the acceleration the reference motion itself needs. With feed-forward
+/// (BalanceReference::from_com_motion) the reference is the pendulum state consistent with the
+/// reference COM motion,
+///     s_ref = (c, c − c̈/ω², ċ, ċ − c⃛/ω²),   a_ref = c̈ − c⁗/ω²,
+/// i.e. the COP the reference motion itself implies (its ZMP) and its derivative. The tracking
+/// error e = s − s_ref then obeys ė = A_cl e: exact tracking of the reference COM by the model, and
+/// the COP of the model is p_ref + C e. A change δ of the COM reference on top (the dynamic
+/// mapping's re-planning, eq. 30–34) enters as in the paper, s_ref += E δ, which gives the error
+/// dynamics ė = A_cl e + B_cl δ: eq. (25)–(26) in error coordinates, so the re-planner predicts
+/// with the same (A, B, C) and adds p_ref (com_replanner.hpp).
 
 #include "retarget/balance/pendulum_model.hpp"
 #include "retarget/core/types.hpp"
@@ -30,6 +44,22 @@ struct BalanceOptions {
   Vec2 observer_measurement = Vec2(1e-6, 1e-4);
   /// Controller period [s] at which `step` integrates the observer.
   double control_period_s = 0.002;
+};
+
+/// Reference of the balance controller for both axes (columns x, y): the pendulum state s_ref (rows
+/// c, p, ċ, ṗ) and the base acceleration a_ref it is driven to.
+struct BalanceReference {
+  Eigen::Matrix<double, 4, 2> s_ref = Eigen::Matrix<double, 4, 2>::Zero();
+  Vec2 a_ref = Vec2::Zero();
+
+  /// The paper's regulator reference: (c_ref, c_ref, 0, 0), a_ref = 0.
+  static BalanceReference at_rest(const Vec2& c_ref);
+  /// Feed-forward reference consistent with a COM motion: rows of `derivatives` are c, ċ, c̈, c⃛, c⁗
+  /// (columns x, y) [m, m/s, m/s², m/s³, m/s⁴]; ω² = g / z_c.
+  static BalanceReference from_com_motion(const Eigen::Matrix<double, 5, 2>& derivatives, double omega_sq);
+  /// Adds a change δ of the COM reference through the paper's channel: s_ref += E δ.
+  void add_com_offset(const Vec2& delta);
+  Vec2 cop() const { return s_ref.row(1).transpose(); }
 };
 
 /// Discrete closed-loop model of the balance controller (eq. 25–26) for one axis.
@@ -59,9 +89,11 @@ class BalanceController {
   /// LQR gain (1 x 4) and observer gain (4 x 2).
   const Eigen::RowVector4d& K() const { return K_; }
   const Eigen::Matrix<double, 4, 2>& L() const { return L_; }
-  /// Continuous eq. (1) matrices: A_b (4 x 4) and B_b (4 x 3) for u_b = (c_ref, c_meas, p_meas).
+  /// Continuous eq. (1) matrices: A_b (4 x 4) and B_b (4 x 7) for u_b = (s_ref, a_ref, c_meas, p_meas).
+  /// With the paper's reference s_ref = E c_ref, a_ref = 0 the input matrix reduces to
+  /// [B_b·(E, 0, 0, 0)ᵀ, L] for (c_ref, c_meas, p_meas).
   const Mat4& A_b() const { return A_b_; }
-  const Eigen::Matrix<double, 4, 3>& B_b() const { return B_b_; }
+  const Eigen::Matrix<double, 4, 7>& B_b() const { return B_b_; }
   /// Continuous closed loop of the model under state feedback: ṡ = A_cl s + B_cl c_ref.
   const Mat4& A_cl() const { return A_cl_; }
   const Vec4& B_cl() const { return B_cl_; }
@@ -74,7 +106,11 @@ class BalanceController {
 
   /// One control period: integrates eq. (1) exactly over control_period_s with the inputs held,
   /// and returns the desired COP (= state.desired_cop()).
-  Vec2 step(BalanceState& state, const Vec2& c_ref, const Vec2& c_meas, const Vec2& p_meas) const;
+  Vec2 step(BalanceState& state, const BalanceReference& ref, const Vec2& c_meas, const Vec2& p_meas) const;
+  /// The paper's regulator: step with BalanceReference::at_rest(c_ref).
+  Vec2 step(BalanceState& state, const Vec2& c_ref, const Vec2& c_meas, const Vec2& p_meas) const {
+    return step(state, BalanceReference::at_rest(c_ref), c_meas, p_meas);
+  }
 
  private:
   PendulumModel model_;
@@ -82,11 +118,11 @@ class BalanceController {
   Eigen::RowVector4d K_;
   Eigen::Matrix<double, 4, 2> L_;
   Mat4 A_b_;
-  Eigen::Matrix<double, 4, 3> B_b_;
+  Eigen::Matrix<double, 4, 7> B_b_;
   Mat4 A_cl_;
   Vec4 B_cl_;
   Mat4 A_b_d_;                      ///< eq. (1) discretised at control_period_s
-  Eigen::Matrix<double, 4, 3> B_b_d_;
+  Eigen::Matrix<double, 4, 7> B_b_d_;
 };
 
 }  // namespace rt

@@ -81,12 +81,18 @@ class ComReplanner {
   /// One planning step at the current time.
   /// `x0`: model state now; `U`: reference COM for the next N steps (2 x N, u_0 = now), modified in
   /// place when re-planning activates; `support(k)`: the support k steps ahead, k = 0..N.
+  /// `y_offset` (2 x N, optional): a known part of the COP added to the model's output, column n−1
+  /// for ŷ_n. With the balance controller's feed-forward (balance_controller.hpp) the model runs in
+  /// error coordinates: x0 = ŝ − s_ref, U = the COM changes δ, and y_offset = the reference COP
+  /// p_ref over the window; eq. (27)–(34) are unchanged otherwise.
   std::optional<ReplanEvent> step(const Mat42& x0, Eigen::Ref<Mat2X> U,
-                                  const std::function<const SupportFrame&(int)>& support) const;
+                                  const std::function<const SupportFrame&(int)>& support,
+                                  const Mat2X* y_offset = nullptr) const;
 
   /// Closed-form minimiser of eq. (31) for target `y_ref` at step n: adds δ = U' − Û to the first
-  /// n columns of U and returns ŷ_n after the change. W_ii = w·i² (i = 1..n).
-  Vec2 solve(const Mat42& x0, Eigen::Ref<Mat2X> U, int n, const Vec2& y_ref) const;
+  /// n columns of U and returns ŷ_n after the change (including `y_offset_n`, the known part of
+  /// the COP at step n). W_ii = w·i² (i = 1..n).
+  Vec2 solve(const Mat42& x0, Eigen::Ref<Mat2X> U, int n, const Vec2& y_ref, const Vec2& y_offset_n = Vec2::Zero()) const;
 
  private:
   ComReplanOptions options_;

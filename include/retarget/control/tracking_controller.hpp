@@ -16,6 +16,7 @@
 #include <array>
 #include <vector>
 
+#include "retarget/control/dense_qp.hpp"
 #include "retarget/core/types.hpp"
 #include "retarget/model/robot_data.hpp"
 
@@ -39,6 +40,27 @@ struct TrackingWeights {
   double com_moment = 1e-3;     ///< W_m: total contact moment about the COM [(N m)⁻²]
 };
 
+/// Physical limits on the contact wrenches (issue 5). The paper's closed form (eq. 19) is
+/// unconstrained and, on a lightly loaded foot, commands wrenches no floor can produce: pulling,
+/// sliding, or with the foot's centre of pressure beyond its sole, which rolls the foot over its
+/// edge. With `enabled`, eq. (18) is minimised subject to these limits by a small dual active-set QP
+/// (dense_qp.hpp) over the contact wrenches (the torques are eliminated in closed form first); when
+/// the closed form already satisfies them (most cycles) the result is identical and costs one
+/// extra constraint evaluation.
+///
+/// Per foot in contact, in its sole frame (x, y along the sole's length and width turned by the
+/// foot's heading, z vertical: the floor is horizontal):
+///   f_z ≥ f_min;  |f_x|, |f_y| ≤ μ' f_z;  |n_x| ≤ c·(w/2)·f_z, |n_y| ≤ c·(l/2)·f_z (COP inside the
+///   sole shrunk by c);  |n_z| ≤ μ'·c·min(l, w)/2·f_z (yaw friction, conservative), with
+///   μ' = friction_margin · μ / √2 (the pyramid inscribed in the friction cone at margin 1).
+struct ContactConstraintOptions {
+  bool enabled = true;
+  double friction = 0;             ///< μ; ≤ 0: the robot's floor friction (robot.yaml simulation.friction)
+  double friction_margin = 1.0;    ///< scales the inscribed pyramid (≤ 1 adds safety)
+  double cop_margin = 0.9;         ///< fraction of each sole's half-length/half-width the foot COP may use
+  double min_normal_force_n = 0.0; ///< [N] f_min
+};
+
 struct TrackingOptions {
   double kp = 36.0;  ///< [1/s²] default joint gain of eq. (2) (paper: 36)
   double kd = 12.0;  ///< [1/s] default joint damping of eq. (2) (paper: 12)
@@ -48,6 +70,7 @@ struct TrackingOptions {
   double foot_kp = 36.0, foot_kd = 12.0;  ///< foot link gains (r̈̂)
   double pinv_damping = 1e-6;  ///< Tikhonov damping of J_c⁺ (legs are assumed non-singular)
   TrackingWeights weights;
+  ContactConstraintOptions contact;
 };
 
 /// Desired state at one control instant (the reference after kinematic mapping).
@@ -77,6 +100,9 @@ struct TrackingProblem {
   MatX G;                         ///< M⁻¹ [S, J_contactᵀ]  (nv x (nu + nf)):  q̈ = G y + a0
   VecX a0;                        ///< −M⁻¹ c
   std::vector<Vec3> r_contact_W;  ///< application points (sole centres) of the contact wrenches
+  std::vector<Mat3> R_contact_W;  ///< frames of the contact limits: W's vertical, turned by each foot's heading
+  MatX C_contact;                 ///< contact limits on f_c: C_contact f_c ≥ d_contact (empty when disabled)
+  VecX d_contact;
   Vec3 p_W_com = Vec3::Zero();
   Vec2 desired_cop_W = Vec2::Zero();
   MatX P, P_p, V;                 ///< eq. (8)–(11), (16), (17)
@@ -90,6 +116,23 @@ struct TrackingCommand {
   VecX f_contact;  ///< contact wrenches (nf), per contact foot [force; moment] at the sole centre
   VecX qdd;        ///< q̈ implied by the unclamped solution
   int saturated_joints = 0;
+  /// The unconstrained closed form (eq. 19) already satisfied the contact limits (always true when
+  /// they are disabled); otherwise the QP moved the solution onto them.
+  bool closed_form_feasible = true;
+  int qp_iterations = 0;
+  QpStatus qp_status = QpStatus::Solved;
+};
+
+/// Scratch memory of build() and solve(), owned by the caller (one per control loop) so that the
+/// controller itself stays const and shareable between threads; reused across control cycles it
+/// avoids per-cycle heap allocation.
+struct TrackingWorkspace {
+  MatX SJ, Gs, H, WH, J_link, M_row;
+  VecX q_err, qdd_hat, rdd_hat, rdd_err, w_c, tmp_nv, tmp_12;
+  Eigen::LLT<MatX> llt_12, llt_tau;
+  MatX X, A_red;
+  VecX z_tau, b_red, f;
+  DenseQp qp;
 };
 
 class TrackingController {
@@ -98,11 +141,19 @@ class TrackingController {
 
   const TrackingOptions& options() const { return options_; }
 
-  /// Builds the problem for measured state (q, v). Updates `data` (the controller's own mjData)
-  /// unless `data_is_current` says the caller already ran update_dynamics(q, v) on it.
+  /// Builds the problem for measured state (q, v) into `problem`, reusing its storage. Updates
+  /// `data` (the controller's own mjData) unless `data_is_current` says the caller already ran
+  /// update_dynamics(q, v) on it.
+  void build(RobotData& data, const VecXCRef& q, const VecXCRef& v, const TrackingReference& ref,
+             TrackingProblem& problem, TrackingWorkspace& workspace, bool data_is_current = false) const;
+  /// Eq. (19) y = −A⁻¹ b — subject to the contact limits when they are enabled — then clamps
+  /// torques. The torques are eliminated first: with A = [A_ττ A_τf; A_fτ A_ff], the wrenches
+  /// minimise the Schur complement ½ fᵀ(A_ff − A_fτ A_ττ⁻¹ A_τf) f + ..., and τ = −A_ττ⁻¹(b_τ + A_τf f).
+  void solve(const TrackingProblem& problem, TrackingCommand& command, TrackingWorkspace& workspace) const;
+
+  /// Conveniences that allocate a fresh problem, workspace and command (tests, one-off calls).
   TrackingProblem build(RobotData& data, const VecXCRef& q, const VecXCRef& v, const TrackingReference& ref,
                         bool data_is_current = false) const;
-  /// Eq. (19): y = −A⁻¹ b, then clamps torques.
   TrackingCommand solve(const TrackingProblem& problem) const;
   TrackingCommand compute(RobotData& data, const VecXCRef& q, const VecXCRef& v, const TrackingReference& ref,
                           bool data_is_current = false) const {
@@ -115,12 +166,15 @@ class TrackingController {
 
  private:
   /// Diagonal of W_c for both feet (stance or swing weights).
-  VecX foot_weights(const std::array<bool, 2>& contact) const;
+  void foot_weights(const std::array<bool, 2>& contact, VecX& w_c) const;
+  /// Rows of the contact limits for the problem's contact feet.
+  void contact_limits(TrackingProblem& p) const;
 
   const RobotModel* model_;
   TrackingOptions options_;
   VecX kp_, kd_;       ///< per generalised velocity (nv)
   VecX w_q_;           ///< diagonal of W_q (nv)
+  double friction_ = 1.0;  ///< μ of the contact limits
 };
 
 }  // namespace rt

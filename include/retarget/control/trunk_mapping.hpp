@@ -36,6 +36,9 @@ struct TrunkTransform {
   /// Eq. (23): R = Ω R̂.
   Quat apply_orientation(const Quat& R_hat_W) const;
   Mat3 Omega() const;
+  /// The linear part Ω S' of eq. (22): maps displacements, velocities and accelerations of mapped
+  /// points (apply_position(p) = apply_position(0) + linear() p).
+  Mat3 linear() const;
 };
 
 /// Eq. (20)–(24) from matching reference and actual contact points (same count and order, W).

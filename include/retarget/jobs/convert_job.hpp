@@ -21,6 +21,7 @@ struct ConvertRequest {
   double time_scale = 1.0;             ///< the retime pass's `time_scale` (> 1 slows the clip)
   std::string passes;                  ///< pipeline spec; "" = the default pipeline
   std::vector<std::string> disabled_passes;  ///< --no-<pass>
+  std::vector<std::string> enabled_passes;   ///< --<pass> for a pass not in the default pipeline
   MotionLoadOptions motion;
   bool write_outputs = true;           ///< false: run and measure only (benchmarks, tests)
 };
@@ -37,6 +38,13 @@ struct ConvertResult {
 
 /// Output stem for a request ("out/walk" for clip "mocap/walk.bvh" and no -o).
 std::string output_stem_for(const ConvertRequest& request);
+
+/// SHA-256 of everything in `request` that determines the outputs' content: the pipeline spec with
+/// every option (as run_convert builds it), the formats, the motion load options (the profile by
+/// its content) and the tool version; not the clip, the output location or write_outputs.
+/// Recorded in meta.json as `options_sha256`; `retarget batch` compares it to decide whether a
+/// finished clip is up to date. InputError when the pipeline spec or the profile is bad.
+std::string convert_options_sha256(const ConvertRequest& request);
 
 /// Runs the job for an already loaded robot. Throws InputError for bad input.
 ConvertResult run_convert(const ConvertRequest& request, const RobotModel& model);

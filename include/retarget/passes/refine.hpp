@@ -40,16 +40,17 @@ namespace rt {
 
 struct RefineOptions {
   double knot_fps = 30.0;            ///< [Hz] knot rate; stride = max(1, round(source fps / knot_fps))
-  int window = 48;                   ///< control points per window
-  int overlap = 12;                  ///< control points shared by consecutive windows (>= 3; 3 are pinned)
-  double acceleration_weight = 1e-5; ///< weight of |ẍ|² [1/(rad/s²)²] per control point, vs landmark weight 1 per m²
+  int window = 96;                   ///< control points per window
+  int overlap = 8;                   ///< control points shared by consecutive windows (>= 3; 3 are pinned)
+  double acceleration_weight = 1e-6; ///< weight of |ẍ|² per control point [(rad/s²)⁻², (m/s²)⁻²], vs landmark weight 1 per m²
   double pull_weight = 1e-3;         ///< weight of |x − x_IK|² per collocation frame (rad², m²)
   double interpolated_weight = 0.5;  ///< weight factor of gap-filled landmark samples (as ik)
-  double stance_weight = 5.0;        ///< weight factor of foot landmarks in stance (as ik)
-  double velocity_margin = 0.02;     ///< fraction of each URDF velocity limit kept free
+  double stance_weight = 1.0;        ///< weight factor of foot landmarks in stance (the constraints hold the feet)
+  double velocity_margin = 0.02;     ///< fraction of each URDF velocity limit kept free (>= 0.001: solver tolerance)
+  double velocity_activation = 0.5;  ///< velocity rows enter the NLP when the guess uses this much of them (or a solve violates them)
   double limit_margin = 1e-4;        ///< [rad, m] distance kept from the joint position limits
   double floor_check_height = 0.15;  ///< [m] swing-foot corners below this (initial guess) get z >= 0
-  int max_iterations = 100;          ///< Ipopt iterations per window
+  int max_iterations = 300;          ///< Ipopt iterations per window (100 left a window of the Bandai dance unsolved)
   double tolerance = 1e-6;           ///< Ipopt tol
   double mu_init = 1e-3;             ///< Ipopt initial barrier parameter (small: the start is good)
 };

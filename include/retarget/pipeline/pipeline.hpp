@@ -41,7 +41,8 @@ class Pipeline {
   /// Parses a spec (InputError for unknown passes / options, naming the offending part).
   static Pipeline parse(const std::string& spec, const PassRegistry& registry);
   /// The registry's default pipeline, minus the passes named in `disabled` (each must exist).
-  static Pipeline default_pipeline(const PassRegistry& registry, const std::vector<std::string>& disabled = {});
+  static Pipeline default_pipeline(const PassRegistry& registry, const std::vector<std::string>& disabled = {},
+                                   const std::vector<std::string>& enabled = {});
 
   void add(std::unique_ptr<Pass> pass) { passes_.push_back(std::move(pass)); }
   /// Sets an option on every pass that has it; returns how many passes took it.

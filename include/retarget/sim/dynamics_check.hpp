@@ -24,6 +24,17 @@ struct DynamicsCheckOptions {
   double settle_s = 0.5;            ///< [s] holding the first frame before the clip starts (not reported)
   bool trunk_mapping = true;        ///< paper §V-B
   bool dynamic_mapping = true;      ///< online COM re-planning (paper §VI); false for ablations
+  /// Balance controller tracks the pendulum state of the reference COM motion (feed-forward,
+  /// balance_controller.hpp) instead of regulating to each reference COM as if at rest (the
+  /// paper's eq. 1, which lags a moving reference by about its velocity × 0.3 s).
+  bool balance_feedforward = true;
+  /// [s] Gaussian smoothing of the reference COM before it is differentiated for the feed-forward.
+  double com_smoothing_s = 0.03;
+  /// The trunk's horizontal reference (eq. 2) follows the balance controller's COM estimate:
+  /// x_root,ref = x_root,ref + (ĉ − c_ref), with velocity and acceleration likewise. The COM is
+  /// steered by the COP (the balance controller); a trunk PD towards the original position would
+  /// pull the same body the other way whenever the COM deviates from its reference.
+  bool root_follows_com = true;
   BalanceOptions balance;           ///< LQR / observer weights (control_period_s is overridden)
   TrackingOptions tracking;         ///< gains default to robot.yaml's controller section
   TrunkMappingOptions trunk;
@@ -52,6 +63,11 @@ struct DynamicsTrace {
   std::vector<Vec2> support_min_W, support_max_W;  ///< bounding box of the actual support polygon (NaN when none)
   std::vector<std::array<bool, 2>> contact_ref, contact_actual;
   std::vector<std::array<double, 2>> foot_force_n;
+  /// Contact force per foot: measured (floor on robot) and commanded by the tracking controller
+  /// (zero for a foot without a wrench) [N].
+  std::vector<std::array<Vec3, 2>> foot_force_W, foot_force_cmd_W;
+  std::vector<Vec2> cop_commanded_W;  ///< COP of the commanded contact wrenches (NaN when none)
+  std::vector<std::array<double, 2>> foot_speed_mps;  ///< horizontal speed of each sole centre
   std::vector<std::array<double, 4>> tracking_error_rad;  ///< RMS joint error: legs, torso (waist+neck), arms, all
 };
 
@@ -82,6 +98,20 @@ struct DynamicsCheckResult {
   /// from its first activation on, and the control cycles in that span.
   double planner_wall_s = 0, active_loop_wall_s = 0;
   long active_cycles = 0;
+  /// Feasibility of the commanded contact wrenches on a rigid flat floor with the model's friction
+  /// coefficient μ: control cycles (clip time) in which some foot's commanded wrench pulls
+  /// (f_z < 0), would slide (|f_t| > μ f_z) or has its centre of pressure outside its sole.
+  struct ForceFeasibility {
+    long cycles = 0;            ///< control cycles with at least one contact wrench commanded
+    long pulling = 0, sliding = 0, cop_outside = 0;
+    double worst_friction_ratio = 0;  ///< max |f_t| / (μ f_z) over feet with f_z > 0
+    /// Cycles in which the paper's unconstrained closed form violated the tracking controller's
+    /// contact limits (TrackingOptions::contact) and the QP corrected it; its largest iteration
+    /// count; and cycles where the QP stopped without a solution.
+    long closed_form_infeasible = 0;
+    int max_qp_iterations = 0;
+    long qp_failures = 0;
+  } force_feasibility;
   DynamicsTrace trace;
 };
 

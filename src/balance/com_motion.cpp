@@ -1,0 +1,42 @@
+#include "retarget/balance/com_motion.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "retarget/core/error.hpp"
+
+namespace rt {
+
+std::array<Eigen::Matrix2Xd, 4> com_derivatives(const Eigen::Matrix2Xd& com_W, double rate_hz, double smoothing_s) {
+  if (!(smoothing_s >= 0 && smoothing_s <= 10)) throw InputError("reference COM smoothing must be in [0, 10] s");
+  if (!(rate_hz > 0)) throw InputError("reference COM rate must be > 0");
+  const auto T = static_cast<int>(com_W.cols());
+  Eigen::Matrix2Xd c = com_W;
+  const double sigma = smoothing_s * rate_hz;  // in samples
+  if (sigma > 1e-3 && T > 1) {
+    const int half = static_cast<int>(std::ceil(3 * sigma));
+    std::vector<double> kernel(static_cast<std::size_t>(2 * half + 1));
+    double sum = 0;
+    for (int i = -half; i <= half; ++i) sum += kernel[static_cast<std::size_t>(i + half)] = std::exp(-0.5 * i * i / (sigma * sigma));
+    for (double& k : kernel) k /= sum;
+    Eigen::Matrix2Xd smoothed = Eigen::Matrix2Xd::Zero(2, T);
+    for (int k = 0; k < T; ++k)
+      for (int i = -half; i <= half; ++i)
+        smoothed.col(k) += kernel[static_cast<std::size_t>(i + half)] * com_W.col(std::clamp(k + i, 0, T - 1));
+    c = smoothed;
+  }
+  std::array<Eigen::Matrix2Xd, 4> d;
+  const double dt = 1.0 / rate_hz;
+  for (std::size_t order = 0; order < d.size(); ++order) {
+    const Eigen::Matrix2Xd& x = order == 0 ? c : d[order - 1];
+    d[order].setZero(2, T);
+    for (int k = 0; k < T; ++k) {
+      const int a = std::max(0, k - 1), b = std::min(T - 1, k + 1);
+      if (b > a) d[order].col(k) = (x.col(b) - x.col(a)) / ((b - a) * dt);
+    }
+  }
+  return d;
+}
+
+}  // namespace rt

@@ -1,0 +1,412 @@
+#include <gtest/gtest.h>
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+
+#include "batch_test_util.hpp"
+#include "retarget/batch/batch_runner.hpp"
+#include "retarget/batch/clip_outputs.hpp"
+#include "retarget/core/error.hpp"
+#include "retarget/report/check_report.hpp"
+
+namespace rt {
+namespace {
+
+namespace fs = std::filesystem;
+using test::copy_example;
+using test::find_clip;
+using test::quick_batch;
+using test::read_text;
+using test::scratch_dir;
+using test::write_text;
+
+constexpr const char* kBrokenBvh = "HIERARCHY\nROOT Hips\n{\n  OFFSET 0 0 0\n  CHANNELS 6 Xposition Yposition\n";
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Statuses by clip name.
+std::map<std::string, ClipStatus> statuses(const BatchSummary& s) {
+  std::map<std::string, ClipStatus> out;
+  for (const ClipResult& c : s.clips) out[c.name] = c.status;
+  return out;
+}
+
+TEST(BatchRunner, MisbehavingWorkersAreRecordedAndTheBatchGoesOn) {
+  const std::string dir = scratch_dir();
+  const std::string in = dir + "/in";
+  write_text(in + "/crash.bvh", "FAKE-WORKER: crash\n");
+  write_text(in + "/hang.bvh", "FAKE-WORKER: hang-with-child " + dir + "/child.pid\n");
+  write_text(in + "/bad.bvh", "FAKE-WORKER: exit 2 bad.bvh:3:7: expected a number\n");
+  write_text(in + "/internal.bvh", "FAKE-WORKER: exit 3 internal error: something broke\n");
+  write_text(in + "/silent.bvh", "FAKE-WORKER: sleep 0.1\n");
+#if !defined(__SANITIZE_ADDRESS__)
+  write_text(in + "/oom.bvh", "FAKE-WORKER: oom\n");
+#endif
+  BatchOptions o = quick_batch(in, dir + "/out");
+  o.jobs = 3;
+  o.timeout_s = 2.0;
+#if !defined(__SANITIZE_ADDRESS__)
+  o.memory_limit_bytes = 128ull << 20;
+#endif
+  int reported = 0;
+  BatchCallbacks cb;
+  cb.on_clip = [&](const ClipResult&, const BatchProgress& p) {
+    ++reported;
+    EXPECT_EQ(p.done + p.failed, reported);
+  };
+  const auto t0 = std::chrono::steady_clock::now();
+  const BatchSummary s = run_batch(o, cb);
+  EXPECT_LT(seconds_since(t0), 20.0);
+  EXPECT_EQ(reported, static_cast<int>(s.clips.size()));
+
+  const ClipResult* crash = find_clip(s, "crash");
+  ASSERT_TRUE(crash);
+  EXPECT_EQ(crash->status, ClipStatus::Crashed);
+  EXPECT_EQ(crash->signal, SIGSEGV);
+  EXPECT_NE(crash->error.find("SIGSEGV"), std::string::npos) << crash->error;
+
+  const ClipResult* hang = find_clip(s, "hang");
+  ASSERT_TRUE(hang);
+  EXPECT_EQ(hang->status, ClipStatus::Timeout);
+  EXPECT_NE(hang->error.find("timeout of 2 s"), std::string::npos) << hang->error;
+  EXPECT_GE(hang->time_s, 2.0);
+
+  const ClipResult* bad = find_clip(s, "bad");
+  ASSERT_TRUE(bad);
+  EXPECT_EQ(bad->status, ClipStatus::BadInput);
+  EXPECT_EQ(bad->exit_code, 2);
+  EXPECT_EQ(bad->error, "bad.bvh:3:7: expected a number");
+  EXPECT_EQ(bad->files.log, "bad.log");
+
+  const ClipResult* internal = find_clip(s, "internal");
+  ASSERT_TRUE(internal);
+  EXPECT_EQ(internal->status, ClipStatus::Error);
+  EXPECT_NE(internal->error.find("status 3"), std::string::npos) << internal->error;
+  EXPECT_NE(internal->error.find("something broke"), std::string::npos) << internal->error;
+
+  const ClipResult* silent = find_clip(s, "silent");
+  ASSERT_TRUE(silent);
+  EXPECT_EQ(silent->status, ClipStatus::Error);
+  EXPECT_NE(silent->error.find("no meta.json"), std::string::npos) << silent->error;
+
+#if !defined(__SANITIZE_ADDRESS__)
+  const ClipResult* oom = find_clip(s, "oom");
+  ASSERT_TRUE(oom);
+  EXPECT_EQ(oom->status, ClipStatus::OutOfMemory);
+  EXPECT_NE(oom->error.find("128 MiB"), std::string::npos) << oom->error;
+  EXPECT_NE(oom->error.find("bad_alloc"), std::string::npos) << oom->error;
+#endif
+
+  EXPECT_EQ(batch_exit_status(s), 2);
+  for (const char* f : {"/out/summary.json", "/out/summary.csv", "/out/index.html"}) EXPECT_TRUE(fs::exists(dir + f)) << f;
+  EXPECT_EQ(read_summary(dir + "/out/summary.json").clips.size(), s.clips.size());
+}
+
+TEST(BatchRunner, RealConversionsWithBrokenFiles) {
+  const std::string dir = scratch_dir();
+  const std::string in = dir + "/in";
+  copy_example("stand", in + "/stand.bvh");
+  copy_example("foot_lift", in + "/walks/foot_lift.bvh");
+  write_text(in + "/broken.bvh", kBrokenBvh);
+  write_text(in + "/garbage.c3d", std::string(700, '\x42'));
+  BatchOptions o = quick_batch(in, dir + "/out");
+  o.worker_executable = test::retarget_binary();
+  o.convert.formats = {ReferenceFormat::Csv, ReferenceFormat::Npz};
+  const BatchSummary s = run_batch(o);
+  ASSERT_EQ(s.clips.size(), 4u);
+  EXPECT_EQ(s.robot, "humanoid25");
+  for (const char* name : {"stand", "walks/foot_lift"}) {
+    const ClipResult* c = find_clip(s, name);
+    ASSERT_TRUE(c) << name;
+    EXPECT_EQ(c->status, ClipStatus::Ok) << name << ": " << c->error;
+    EXPECT_GT(c->frames, 50) << name;
+    EXPECT_DOUBLE_EQ(c->fps, 30.0);
+    EXPECT_GT(c->duration_s, 1.0);
+    EXPECT_GT(c->source_frames, c->frames);
+    EXPECT_GT(c->landmark_error_median_m, 0.0);
+    EXPECT_LT(c->landmark_error_median_m, 0.1);
+    EXPECT_GE(c->foot_skating_p95_m, 0.0);
+    EXPECT_EQ(c->check, CheckOutcome::NotRun);
+    EXPECT_EQ(c->files.data, (std::vector<std::string>{std::string(name) + ".csv", std::string(name) + ".npz"}));
+    EXPECT_EQ(c->files.meta, std::string(name) + ".meta.json");
+    EXPECT_GT(c->peak_rss_mb, 5.0);
+    EXPECT_LT(c->peak_rss_mb, 300.0);
+  }
+  const ClipResult* broken = find_clip(s, "broken");
+  ASSERT_TRUE(broken);
+  EXPECT_EQ(broken->status, ClipStatus::BadInput);
+  EXPECT_NE(broken->error.find("broken.bvh:"), std::string::npos) << broken->error;
+  const ClipResult* garbage = find_clip(s, "garbage");
+  ASSERT_TRUE(garbage);
+  EXPECT_EQ(garbage->status, ClipStatus::BadInput);
+  EXPECT_NE(garbage->error.find("garbage.c3d"), std::string::npos) << garbage->error;
+  EXPECT_EQ(batch_exit_status(s), 2);
+  EXPECT_FALSE(fs::exists(dir + "/out/broken.meta.json"));
+
+  // A rerun skips the finished clips and retries the broken ones.
+  const BatchSummary again = run_batch(o);
+  const auto st = statuses(again);
+  EXPECT_EQ(st.at("stand"), ClipStatus::Skipped);
+  EXPECT_EQ(st.at("walks/foot_lift"), ClipStatus::Skipped);
+  EXPECT_EQ(st.at("broken"), ClipStatus::BadInput);
+  EXPECT_EQ(find_clip(again, "stand")->frames, find_clip(s, "stand")->frames);  // metrics of skipped clips kept
+  EXPECT_EQ(batch_exit_status(again), 2);
+}
+
+TEST(BatchRunner, ResumeRules) {
+  const std::string dir = scratch_dir();
+  const std::string in = dir + "/in";
+  copy_example("stand", in + "/a.bvh");
+  copy_example("stand", in + "/b.bvh");
+  // A private copy of the robot, so that its config can change.
+  fs::copy(test::source_path("robots/humanoid25"), dir + "/robot", fs::copy_options::recursive);
+  BatchOptions o = quick_batch(in, dir + "/out");
+  o.robot = dir + "/robot/robot.yaml";
+  auto run = [&](const BatchOptions& opts) { return statuses(run_batch(opts)); };
+  using M = std::map<std::string, ClipStatus>;
+  const ClipStatus ok = ClipStatus::Ok, skip = ClipStatus::Skipped;
+
+  EXPECT_EQ(run(o), (M{{"a", ok}, {"b", ok}}));
+  EXPECT_EQ(run(o), (M{{"a", skip}, {"b", skip}}));
+  // --force redoes everything.
+  BatchOptions forced = o;
+  forced.force = true;
+  EXPECT_EQ(run(forced), (M{{"a", ok}, {"b", ok}}));
+  // Another option changes the options hash.
+  BatchOptions other = o;
+  other.convert.fps = 25;
+  EXPECT_EQ(run(other), (M{{"a", ok}, {"b", ok}}));
+  EXPECT_EQ(run(other), (M{{"a", skip}, {"b", skip}}));
+  EXPECT_EQ(run(o), (M{{"a", ok}, {"b", ok}}));
+  // An input touched after its meta.json was written, and one whose content changed.
+  fs::last_write_time(dir + "/out/a.meta.json", fs::last_write_time(in + "/a.bvh") - std::chrono::seconds(10));
+  EXPECT_EQ(run(o), (M{{"a", ok}, {"b", skip}}));
+  write_text(in + "/b.bvh", read_text(in + "/b.bvh") + "\n");
+  EXPECT_EQ(run(o), (M{{"a", skip}, {"b", ok}}));
+  // The robot config changed.
+  write_text(dir + "/robot/robot.yaml", read_text(dir + "/robot/robot.yaml") + "\n# edited\n");
+  EXPECT_EQ(run(o), (M{{"a", ok}, {"b", ok}}));
+  // A data file without its meta (a crash between the two writes) and a stale temporary.
+  fs::remove(dir + "/out/a.meta.json");
+  write_text(dir + "/out/a.csv.tmp.12345.678", "half");
+  write_text(dir + "/out/a.meta.json.tmp.12345.679", "{");
+  EXPECT_EQ(run(o), (M{{"a", ok}, {"b", skip}}));
+  EXPECT_FALSE(fs::exists(dir + "/out/a.csv.tmp.12345.678"));
+  EXPECT_FALSE(fs::exists(dir + "/out/a.meta.json.tmp.12345.679"));
+  // A requested format that is missing.
+  BatchOptions npz = o;
+  npz.convert.formats = {ReferenceFormat::Csv, ReferenceFormat::Npz};
+  const auto plan = plan_batch(npz);
+  ASSERT_EQ(plan.clips.size(), 2u);
+  EXPECT_FALSE(plan.clips[0].up_to_date);
+  EXPECT_EQ(plan.clips[0].reason, "options changed");  // the formats are part of the options
+  // A corrupt meta.json.
+  write_text(dir + "/out/b.meta.json", "{\"trunc");
+  EXPECT_EQ(run(o), (M{{"a", skip}, {"b", ok}}));
+  // With --check, a clip converted without the check is redone (no report yet), then skipped.
+  BatchOptions check = o;
+  check.check = true;
+  for (const auto& [name, status] : run(check))  // ok, or check-failed should the controller not hold it
+    EXPECT_TRUE(status == ok || status == ClipStatus::CheckFailed) << name << ": " << clip_status_name(status);
+  EXPECT_EQ(run(check), (M{{"a", skip}, {"b", skip}}));
+  EXPECT_TRUE(fs::exists(dir + "/out/a.report/report.json"));
+}
+
+TEST(BatchRunner, EveryForwardedSettingKeepsAFinishedClipUpToDate) {
+  // The options hash the batch computes must equal the one the worker records, for every setting
+  // it forwards; otherwise a rerun would redo finished clips.
+  const std::string dir = scratch_dir();
+  copy_example("stand", dir + "/lib/a.bvh");
+  copy_example("stand", dir + "/lib/b.bvh");
+  write_text(dir + "/lib/m.yaml",
+             "clips:\n  - a.bvh\n  - {path: b.bvh, source_units: \"0.01\", source_fps: 50, time_scale: 0.8, up_axis: y}\n");
+  BatchOptions o = quick_batch(dir + "/lib/m.yaml", dir + "/out");
+  o.worker_executable = test::retarget_binary();
+  o.convert.formats = {ReferenceFormat::Npz, ReferenceFormat::Csv};
+  o.convert.fps = 25;
+  o.convert.time_scale = 1.25;
+  o.convert.passes = "retime,scale,label-contacts,ik{max_iterations=30},ground,resample";
+  o.convert.disabled_passes = {};
+  o.convert.source_units = "cm";
+  o.convert.up_axis = "y";
+  o.convert.keep_tpose = true;
+  const BatchSummary first = run_batch(o);
+  for (const ClipResult& c : first.clips) EXPECT_EQ(c.status, ClipStatus::Ok) << c.name << ": " << c.error;
+  EXPECT_LT(find_clip(first, "b")->frames, find_clip(first, "a")->frames);  // b plays faster
+  const BatchSummary second = run_batch(o);
+  for (const ClipResult& c : second.clips) EXPECT_EQ(c.status, ClipStatus::Skipped) << c.name;
+}
+
+TEST(BatchRunner, CheckOutcomesAndManifestOverrides) {
+  const std::string dir = scratch_dir();
+  copy_example("stand", dir + "/lib/stand.bvh");
+  // The same clip at its own speed and twice slower (a per-clip override).
+  write_text(dir + "/lib/m.csv", "path,output,time_scale\nstand.bvh,normal,\nstand.bvh,slow,2\n");
+  // A robot too weak to stand (1 N m effort limits): its check fails whatever the controller
+  // tuning, so check-failed is exercised deterministically.
+  fs::copy(test::source_path("robots/humanoid25"), dir + "/weak", fs::copy_options::recursive);
+  std::string urdf = read_text(dir + "/weak/humanoid25.urdf");
+  for (std::size_t at = urdf.find("effort=\""); at != std::string::npos; at = urdf.find("effort=\"", at + 1))
+    urdf.replace(at + 8, urdf.find('"', at + 8) - (at + 8), "1");
+  write_text(dir + "/weak/humanoid25.urdf", urdf);
+  BatchOptions o = quick_batch(dir + "/lib/m.csv", dir + "/out");
+  o.worker_executable = test::retarget_binary();
+  o.robot = dir + "/weak/robot.yaml";
+  o.check = true;
+  const BatchSummary s = run_batch(o);
+  const ClipResult* normal = find_clip(s, "normal");
+  const ClipResult* slow = find_clip(s, "slow");
+  ASSERT_TRUE(normal && slow);
+  EXPECT_NEAR(slow->frames, 2 * normal->frames, 2);  // the override reached the worker
+  for (const ClipResult* c : {normal, slow}) {
+    EXPECT_EQ(c->status, ClipStatus::CheckFailed) << c->name << ": " << c->error;
+    EXPECT_EQ(c->exit_code, 1);
+    EXPECT_EQ(c->check, CheckOutcome::Failed);
+    EXPECT_EQ(c->main_violation.substr(0, 8), "fall at ") << c->main_violation;
+    EXPECT_GE(c->violations, 1);
+    EXPECT_EQ(c->files.plots.size(), 4u);
+    EXPECT_EQ(c->files.report, c->name + ".report/report.json");
+    EXPECT_EQ(c->files.report_text, c->name + ".report/report.txt");
+    EXPECT_FALSE(read_check_report(dir + "/out/" + c->files.report).passed);
+  }
+  EXPECT_EQ(batch_exit_status(s), 1);
+  // Skipped on a rerun, and the stored failed check still sets exit status 1.
+  const BatchSummary again = run_batch(o);
+  EXPECT_EQ(find_clip(again, "slow")->status, ClipStatus::Skipped);
+  EXPECT_EQ(find_clip(again, "slow")->check, CheckOutcome::Failed);
+  EXPECT_EQ(find_clip(again, "normal")->status, ClipStatus::Skipped);
+  EXPECT_EQ(batch_exit_status(again), 1);
+  // A crash of one clip outranks the failed checks: exit status 2.
+  write_text(dir + "/lib/m.csv", "path,output,time_scale\nstand.bvh,normal,\nstand.bvh,slow,2\ncrash.bvh,crash,\n");
+  write_text(dir + "/lib/crash.bvh", "FAKE-WORKER: crash\n");
+  o.worker_executable = test::fake_worker();
+  const BatchSummary third = run_batch(o);
+  EXPECT_EQ(find_clip(third, "crash")->status, ClipStatus::Crashed);
+  EXPECT_EQ(batch_exit_status(third), 2);
+}
+
+TEST(BatchRunner, FailFastCancelsTheRest) {
+  const std::string dir = scratch_dir();
+  const std::string in = dir + "/in";
+  // Largest first: the failing clip (padded) runs first.
+  write_text(in + "/fails.bvh", "FAKE-WORKER: exit 2 fails.bvh:1: broken\n" + std::string(1000, '#'));
+  for (const char* name : {"s1", "s2", "s3"}) write_text(in + "/" + name + ".bvh", "FAKE-WORKER: hang\n");
+  BatchOptions o = quick_batch(in, dir + "/out");
+  o.jobs = 2;
+  o.fail_fast = true;
+  o.stop_grace_s = 0.2;
+  const auto t0 = std::chrono::steady_clock::now();
+  const BatchSummary s = run_batch(o);
+  EXPECT_LT(seconds_since(t0), 10.0);
+  EXPECT_EQ(find_clip(s, "fails")->status, ClipStatus::BadInput);
+  int cancelled = 0;
+  for (const ClipResult& c : s.clips)
+    if (c.status == ClipStatus::Cancelled) {
+      ++cancelled;
+      EXPECT_NE(c.error.find("--fail-fast: fails failed"), std::string::npos) << c.error;
+    }
+  EXPECT_EQ(cancelled, 3);
+  EXPECT_EQ(s.stopped, "--fail-fast: fails failed");
+  EXPECT_EQ(batch_exit_status(s), 2);
+}
+
+TEST(BatchRunner, StopRequestStopsWorkersCleanly) {
+  const std::string dir = scratch_dir();
+  const std::string in = dir + "/in";
+  for (const char* name : {"h1", "h2", "h3", "h4"}) write_text(in + "/" + name + ".bvh", "FAKE-WORKER: hang\n");
+  BatchOptions o = quick_batch(in, dir + "/out");
+  const auto t0 = std::chrono::steady_clock::now();
+  BatchCallbacks cb;
+  cb.stop_requested = [&] { return seconds_since(t0) > 0.3 ? std::string("SIGINT") : std::string(); };
+  const BatchSummary s = run_batch(o, cb);
+  EXPECT_LT(seconds_since(t0), 10.0);
+  EXPECT_EQ(s.stopped, "SIGINT");
+  ASSERT_EQ(s.clips.size(), 4u);
+  int started = 0;
+  for (const ClipResult& c : s.clips) {
+    EXPECT_EQ(c.status, ClipStatus::Cancelled) << c.name;
+    if (c.signal == SIGTERM) ++started;
+  }
+  EXPECT_EQ(started, 2);  // the two running workers got SIGTERM; the others never started
+  const BatchSummary written = read_summary(dir + "/out/summary.json");
+  EXPECT_EQ(written.stopped, "SIGINT");
+}
+
+TEST(BatchRunner, OutputFolderIsLocked) {
+  const std::string dir = scratch_dir();
+  write_text(dir + "/in/x.bvh", "FAKE-WORKER: sleep 0\n");
+  fs::create_directories(dir + "/out");
+  const int fd = ::open((dir + "/out/.retarget-batch.lock").c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(::flock(fd, LOCK_EX | LOCK_NB), 0);
+  BatchOptions o = quick_batch(dir + "/in", dir + "/out");
+  try {
+    run_batch(o);
+    ADD_FAILURE() << "expected the lock to refuse a second batch";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("another retarget batch"), std::string::npos) << e.what();
+  }
+  // Another shard of the same output folder has its own lock.
+  o.shard = ShardSpec{1, 1};
+  EXPECT_NO_THROW(run_batch(o));
+  ::close(fd);
+  EXPECT_NO_THROW(run_batch(quick_batch(dir + "/in", dir + "/out")));
+}
+
+TEST(BatchRunner, BadRobotOrOptionsFailUpFront) {
+  const std::string dir = scratch_dir();
+  write_text(dir + "/in/x.bvh", "FAKE-WORKER: sleep 0\n");
+  BatchOptions o = quick_batch(dir + "/in", dir + "/out");
+  o.robot = dir + "/no-robot.yaml";
+  EXPECT_THROW(run_batch(o), InputError);
+  o = quick_batch(dir + "/in", dir + "/out");
+  o.convert.passes = "scale,no-such-pass";
+  EXPECT_THROW(run_batch(o), InputError);
+  o = quick_batch(dir + "/in", "");
+  EXPECT_THROW(run_batch(o), InputError);
+  EXPECT_FALSE(fs::exists(dir + "/out/summary.json"));
+}
+
+TEST(BatchRunner, OnlyTheClipsOwnStaleTemporariesAreRemoved) {
+  const std::string dir = scratch_dir();
+  const ClipOutputPaths p = clip_output_paths(dir + "/out", "sub/walk", {ReferenceFormat::Csv, ReferenceFormat::Npz});
+  EXPECT_EQ(p.stem, dir + "/out/sub/walk");
+  EXPECT_EQ(p.meta, dir + "/out/sub/walk.meta.json");
+  EXPECT_EQ(p.report, dir + "/out/sub/walk.report/report.json");
+  const std::vector<std::string> stale = {"/out/sub/walk.csv.tmp.123.456", "/out/sub/walk.npz.tmp.1.2",
+                                          "/out/sub/walk.meta.json.tmp.99.1", "/out/sub/walk.report/report.json.tmp.5.6",
+                                          "/out/sub/walk.report/contacts.svg.tmp.5.7"};
+  const std::vector<std::string> kept = {"/out/sub/walk.csv", "/out/sub/walker.csv.tmp.1.2", "/out/sub/walk.csv.tmp.x",
+                                         "/out/walk.csv.tmp.1.2", "/out/sub/walk.report/notes.tmp.1.2",
+                                         "/out/sub/walk.log.tmp.1.2"};
+  for (const auto& f : stale) write_text(dir + f, "x");
+  for (const auto& f : kept) write_text(dir + f, "x");
+  EXPECT_EQ(remove_stale_temporaries(p), static_cast<int>(stale.size()));
+  for (const auto& f : stale) EXPECT_FALSE(fs::exists(dir + f)) << f;
+  for (const auto& f : kept) EXPECT_TRUE(fs::exists(dir + f)) << f;
+  // A data file without meta is never up to date.
+  const UpToDate u = check_up_to_date(dir + "/out/sub/walk.csv", p, ExpectedHashes{"a", "b", "c", "d"}, false);
+  EXPECT_FALSE(u.up_to_date);
+  EXPECT_EQ(u.reason, "no meta.json");
+}
+
+TEST(BatchRunner, DescribeConvertSettings) {
+  ConvertSettings s;
+  EXPECT_EQ(describe_convert_settings(s, false), "--format csv");
+  s.formats = {ReferenceFormat::Csv, ReferenceFormat::Npz};
+  s.fps = 50;
+  s.disabled_passes = {"refine"};
+  s.package_paths = {"/somewhere"};
+  s.source_units = "cm";
+  EXPECT_EQ(describe_convert_settings(s, true), "--format csv,npz --fps 50 --no-refine --source-units cm --check");
+}
+
+}  // namespace
+}  // namespace rt
