@@ -1,6 +1,8 @@
 #pragma once
-/// `com-replan` pass (paper §VI offline, design.md §3.4, issue 6): the balance controller's closed-loop
-/// model (eq. 25–26) is run forward along the whole clip from its own predicted state; whenever the
+/// `com-replan` pass (paper §VI offline, design.md §3.4, issue 6; opt-in, see registry.cpp): the
+/// balance controller's closed-loop model (eq. 25–26, in the feed-forward error coordinates of
+/// balance_controller.hpp unless ComPreviewOptions::feedforward is off) is run forward along the whole
+/// clip from its own predicted state; whenever the
 /// predicted COP would leave the support polygon of a future frame, or a foot is about to land while
 /// the COP is still inside the old polygon, the COM reference is re-planned in closed form (eq. 27–34).
 /// The re-planned COM and the predicted COP are stored in the reference, and a COM-following IK
