@@ -147,4 +147,14 @@ VecX difference(const RobotModel& model, const VecXCRef& q1, const VecXCRef& q2,
   return v;
 }
 
+std::array<Mat3, 2> sole_frames_in_links(const RobotModel& model, RobotData& data) {
+  VecX q0 = VecX::Zero(model.nq());
+  q0[3] = 1;
+  update_kinematics(model, data, q0);
+  std::array<Mat3, 2> R;
+  for (int foot = 0; foot < 2; ++foot)
+    R[static_cast<std::size_t>(foot)] = link_pose(model, data, model.soles()[static_cast<std::size_t>(foot)].link).linear().transpose();
+  return R;
+}
+
 }  // namespace rt

@@ -10,16 +10,6 @@
 
 namespace rt {
 
-std::array<Mat3, 2> sole_frames_in_links(const RobotModel& model, RobotData& data) {
-  VecX q0 = VecX::Zero(model.nq());
-  q0[3] = 1;
-  update_kinematics(model, data, q0);
-  std::array<Mat3, 2> R;
-  for (int foot = 0; foot < 2; ++foot)
-    R[static_cast<std::size_t>(foot)] = link_pose(model, data, model.soles()[static_cast<std::size_t>(foot)].link).linear().transpose();
-  return R;
-}
-
 std::pair<double, double> sole_tilt_and_height(const RobotModel& model, RobotData& data, const VecX& q, int foot,
                                                const Mat3& R_L_sole) {
   update_kinematics(model, data, q);

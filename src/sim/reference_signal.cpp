@@ -13,17 +13,6 @@ namespace rt {
 
 namespace {
 
-// Sole frames in their link frames from the zero configuration (soles level, facing +X).
-std::array<Mat3, 2> sole_rotations(const RobotModel& model, RobotData& data) {
-  VecX q0 = VecX::Zero(model.nq());
-  q0[3] = 1;
-  update_kinematics(model, data, q0);
-  std::array<Mat3, 2> R;
-  for (int foot = 0; foot < 2; ++foot)
-    R[static_cast<std::size_t>(foot)] = link_pose(model, data, model.soles()[static_cast<std::size_t>(foot)].link).linear().transpose();
-  return R;
-}
-
 Vec3 rotation_vector(const Mat3& R) {
   const AngleAxis aa(R);
   return aa.angle() * aa.axis();
@@ -52,7 +41,7 @@ ReferenceSignal::ReferenceSignal(const RobotModel& model, RobotData& data, const
     const int a = std::max(0, k - 1), b = std::min(T - 1, k + 1);
     if (b > a) a_.col(k) = (v_.col(b) - v_.col(a)) / ((b - a) * dt);
   }
-  const auto R_L_sole = sole_rotations(model, data);
+  const auto R_L_sole = sole_frames_in_links(model, data);
   com_.resize(3, T);
   for (int foot = 0; foot < 2; ++foot) {
     sole_[static_cast<std::size_t>(foot)].resize(static_cast<std::size_t>(T));

@@ -7,6 +7,7 @@
 /// velocity v of robot_model.hpp (root linear velocity in W, root angular velocity in the root
 /// frame). `p_L` points are in the link frame.
 
+#include <array>
 #include <vector>
 
 #include "retarget/core/types.hpp"
@@ -62,5 +63,9 @@ VecX integrate(const RobotModel& model, const VecXCRef& q, const VecXCRef& v, do
 
 /// v such that integrate(q1, v, dt) = q2 (quaternion-aware finite difference).
 VecX difference(const RobotModel& model, const VecXCRef& q1, const VecXCRef& q2, double dt);
+
+/// Orientation of each sole frame (x forward, z the sole normal) in its foot link frame, from the
+/// robot's zero configuration where soles are level and face +X. Updates `data`.
+std::array<Mat3, 2> sole_frames_in_links(const RobotModel& model, RobotData& data);
 
 }  // namespace rt

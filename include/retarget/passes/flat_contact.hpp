@@ -14,9 +14,6 @@ struct FlatContactOptions {
   int max_iterations = 100;
 };
 
-/// Orientation of each sole frame (x forward, z the sole normal) in its foot link frame, from the
-/// robot's zero configuration where soles are level and face +X.
-std::array<Mat3, 2> sole_frames_in_links(const RobotModel& model, RobotData& data);
 
 /// Sole tilt [rad] (angle between the sole normal and the vertical) and sole-centre height [m] of a
 /// foot at configuration q.
