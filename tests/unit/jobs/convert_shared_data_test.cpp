@@ -6,13 +6,10 @@
 
 #include <gtest/gtest.h>
 
-#include <map>
-#include <memory>
-#include <mutex>
-
 #include "retarget/core/strings.hpp"
 #include "retarget/jobs/convert_job.hpp"
 #include "retarget/model/robot_model.hpp"
+#include "shared_robots.hpp"
 #include "support/test_paths.hpp"
 
 namespace rt {
@@ -48,16 +45,6 @@ std::vector<Case> cases() {
   return out;
 }
 
-// One model per robot for the whole test program.
-const RobotModel& robot(const std::string& name) {
-  static std::mutex mutex;
-  static std::map<std::string, std::unique_ptr<RobotModel>> cache;
-  const std::lock_guard<std::mutex> lock(mutex);
-  auto& slot = cache[name];
-  if (!slot) slot = RobotModel::load(test::source_path("robots/" + name));
-  return *slot;
-}
-
 class ConvertSharedData : public ::testing::TestWithParam<Case> {};
 
 TEST_P(ConvertSharedData, MeetsTheQualityBounds) {
@@ -68,7 +55,7 @@ TEST_P(ConvertSharedData, MeetsTheQualityBounds) {
   request.clip_path = clip;
   request.write_outputs = false;
   if (std::string(c.clip).find("salsa") != std::string::npos) request.motion.source_fps = 60;  // data README
-  const ConvertResult r = run_convert(request, robot(c.robot));
+  const ConvertResult r = run_convert(request, test::shared_robot(c.robot));
   const QualityMetrics& q = r.quality;
   EXPECT_GT(r.clip.reference.num_frames(), 0);
   EXPECT_EQ(q.position_limit_violations, 0);
@@ -87,12 +74,7 @@ TEST_P(ConvertSharedData, MeetsTheQualityBounds) {
 }
 
 INSTANTIATE_TEST_SUITE_P(AllRobotsAllClips, ConvertSharedData, ::testing::ValuesIn(cases()),
-                         [](const ::testing::TestParamInfo<Case>& info) {
-                           std::string n = std::string(info.param.robot) + "_" + info.param.clip;
-                           for (char& ch : n)
-                             if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
-                           return n;
-                         });
+                         [](const ::testing::TestParamInfo<Case>& info) { return test::case_name(info.param.robot, info.param.clip); });
 
 }  // namespace
 }  // namespace rt

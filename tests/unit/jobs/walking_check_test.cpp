@@ -12,16 +12,12 @@
 
 #include <gtest/gtest.h>
 
-#include <cctype>
-#include <map>
-#include <memory>
-#include <mutex>
-
 #include "retarget/core/strings.hpp"
 #include "retarget/jobs/convert_job.hpp"
 #include "retarget/jobs/validate_job.hpp"
 #include "retarget/model/robot_model.hpp"
 #include "retarget/sim/dynamics_check.hpp"
+#include "shared_robots.hpp"
 #include "support/test_paths.hpp"
 
 namespace rt {
@@ -43,22 +39,13 @@ std::vector<Case> cases() {
   return out;
 }
 
-const RobotModel& robot(const std::string& name) {
-  static std::mutex mutex;
-  static std::map<std::string, std::unique_ptr<RobotModel>> cache;
-  const std::lock_guard<std::mutex> lock(mutex);
-  auto& slot = cache[name];
-  if (!slot) slot = RobotModel::load(test::source_path("robots/" + name));
-  return *slot;
-}
-
 class WalkingCheck : public ::testing::TestWithParam<Case> {};
 
 TEST_P(WalkingCheck, OutcomeIsPinned) {
   const Case c = GetParam();
   RT_REQUIRE_SHARED(clip, c.clip);
   RT_REQUIRE_SHARED(robots, "robots");
-  const RobotModel& model = robot(c.robot);
+  const RobotModel& model = test::shared_robot(c.robot);
   ConvertRequest convert;
   convert.clip_path = clip;
   convert.write_outputs = false;
@@ -91,12 +78,7 @@ TEST_P(WalkingCheck, OutcomeIsPinned) {
 }
 
 INSTANTIATE_TEST_SUITE_P(HumanoidsOnRealWalks, WalkingCheck, ::testing::ValuesIn(cases()),
-                         [](const ::testing::TestParamInfo<Case>& info) {
-                           std::string n = std::string(info.param.robot) + "_" + info.param.clip;
-                           for (char& ch : n)
-                             if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
-                           return n;
-                         });
+                         [](const ::testing::TestParamInfo<Case>& info) { return test::case_name(info.param.robot, info.param.clip); });
 
 }  // namespace
 }  // namespace rt
