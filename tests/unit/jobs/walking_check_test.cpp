@@ -2,15 +2,18 @@
 // the outcomes pinned so that they cannot change silently (in either direction: a clip that starts
 // passing must update this file and the README's table too).
 //
-// Measured outcome (README, "What the check finds on real walking clips"): every one of these walks
+// Measured outcome (README, "What the check finds on real clips"): every one of these walks
 // fails in its first step at 1x, and no playback speed between 2x and 0.25x passes. A human walk keeps
 // the COM between the feet in single support (it falls onto the next foot); the paper's COM
-// re-planning moves the COM within the given footholds, which is enough for quasi-static motion
-// (foot lift, slow steps) but not for a dynamic gait. So what is pinned: fails at 1x, the first
+// re-planning moves the COM within the given footholds, which targets quasi-static motion (foot
+// lift, slow weight shifts), not a dynamic gait. So what is pinned: fails at 1x, the first
 // failing violation starts in the first 1.5 s of the clip, and --find-speed finds no passing speed.
 // Skips cleanly without ../shared/data.
 
 #include <gtest/gtest.h>
+
+#include <cmath>
+#include <iostream>
 
 #include "retarget/core/strings.hpp"
 #include "retarget/jobs/convert_job.hpp"
