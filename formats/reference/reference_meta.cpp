@@ -8,6 +8,7 @@
 #include "formats/reference/reference_csv.hpp"
 #include "retarget/core/error.hpp"
 #include "retarget/core/file_io.hpp"
+#include "retarget/core/json_document.hpp"
 #include "retarget/core/strings.hpp"
 #include "retarget/reference/reference_io.hpp"
 
@@ -58,36 +59,7 @@ void dump_pretty(const Json& j, int indent, std::string& out) {
   out.push_back(object ? '}' : ']');
 }
 
-int json_depth(const Json& j, int limit) {
-  if (!j.is_structured() || limit <= 0) return 0;
-  int deepest = 0;
-  for (const auto& v : j) deepest = std::max(deepest, json_depth(v, limit - 1));
-  return deepest + 1;
-}
-
 std::string key_loc(const std::string& file, const std::string& path) { return file + " [" + path + "]"; }
-
-// 1-based line and column of byte offset `byte` (nlohmann counts from 1, pointing at the last
-// character read).
-std::string text_loc(const std::string& file, std::string_view text, std::size_t byte) {
-  const std::size_t end = std::min(byte > 0 ? byte - 1 : 0, text.size());
-  std::size_t line = 1, col = 1;
-  for (std::size_t i = 0; i < end; ++i) {
-    if (text[i] == '\n') {
-      ++line;
-      col = 1;
-    } else {
-      ++col;
-    }
-  }
-  return format("%s:%zu:%zu", file.c_str(), line, col);
-}
-
-std::string one_line(std::string s) {
-  for (char& c : s)
-    if (static_cast<unsigned char>(c) < 0x20) c = ' ';
-  return s;
-}
 
 class MetaReader {
  public:
@@ -98,13 +70,13 @@ class MetaReader {
   }
 
   double number(const Json& j, const std::string& path) const {
-    if (!j.is_number()) fail(path, "expected a number, got " + type_of(j));
+    if (!j.is_number()) fail(path, "expected a number, got " + json_type_phrase(j));
     const double v = j.get<double>();
     if (!std::isfinite(v)) fail(path, "expected a finite number");
     return v;
   }
   long long integer(const Json& j, const std::string& path, long long lo, long long hi) const {
-    if (!j.is_number_integer()) fail(path, "expected an integer, got " + type_of(j));
+    if (!j.is_number_integer()) fail(path, "expected an integer, got " + json_type_phrase(j));
     if (j.is_number_unsigned() && j.get<std::uint64_t>() > static_cast<std::uint64_t>(hi))
       fail(path, format("%s is out of range [%lld, %lld]", dump_compact(j).c_str(), lo, hi));
     const long long v = j.get<long long>();
@@ -112,11 +84,11 @@ class MetaReader {
     return v;
   }
   std::string string(const Json& j, const std::string& path) const {
-    if (!j.is_string()) fail(path, "expected a string, got " + type_of(j));
+    if (!j.is_string()) fail(path, "expected a string, got " + json_type_phrase(j));
     return j.get<std::string>();
   }
   const Json& array(const Json& j, const std::string& path) const {
-    if (!j.is_array()) fail(path, "expected an array, got " + type_of(j));
+    if (!j.is_array()) fail(path, "expected an array, got " + json_type_phrase(j));
     return j;
   }
   // [[a, b, ...], ...] with `width` numbers per row -> width x n matrix.
@@ -134,7 +106,6 @@ class MetaReader {
   }
 
  private:
-  static std::string type_of(const Json& j) { return j.type_name(); }
   const std::string& file_;
 };
 
@@ -218,27 +189,8 @@ std::string format_reference_meta(const Reference& r, const std::vector<std::str
 }
 
 ReferenceMeta parse_reference_meta(std::string_view text, const std::string& file) {
-  Json j;
-  try {
-    j = Json::parse(text.begin(), text.end());
-  } catch (const Json::parse_error& e) {
-    // what() is "[json.exception.parse_error.101] parse error at line 3, column 5: <detail>";
-    // keep the detail, use our own location format.
-    std::string what = one_line(e.what());
-    const auto colon = what.find(": ", what.find("parse error"));
-    if (colon != std::string::npos) what = what.substr(colon + 2);
-    throw InputError(text_loc(file, text, e.byte), "invalid JSON: " + what.substr(0, 300));
-  } catch (const Json::exception& e) {
-    // Valid syntax the library cannot represent, e.g. a number beyond double range.
-    std::string what = one_line(e.what());
-    const auto bracket = what.find("] ");
-    if (bracket != std::string::npos) what = what.substr(bracket + 2);
-    throw InputError(file, "invalid JSON: " + what.substr(0, 300));
-  }
+  const Json j = parse_json_object(text, file, "meta.json", kMaxJsonDepth);
   MetaReader in(file);
-  if (!j.is_object()) throw InputError(file + ":1:1", "meta.json must be a JSON object");
-  if (json_depth(j, kMaxJsonDepth + 1) > kMaxJsonDepth)
-    throw InputError(file, format("JSON nests deeper than %d levels", kMaxJsonDepth));
 
   ReferenceMeta m;
   Json extra = Json::object();

@@ -12,6 +12,7 @@
 
 #include "retarget/core/error.hpp"
 #include "retarget/core/file_io.hpp"
+#include "retarget/core/json_document.hpp"
 #include "retarget/core/strings.hpp"
 
 namespace rt {
@@ -24,6 +25,7 @@ namespace {
 constexpr const char* kSummaryFormat = "retarget-batch-summary";
 constexpr int kSummaryFormatVersion = 1;
 constexpr std::uint64_t kMaxSummaryBytes = 1ull << 30;
+constexpr int kMaxJsonDepth = 16;  // the schema nests 4 levels
 
 const std::vector<std::pair<ClipStatus, const char*>>& status_names() {
   static const std::vector<std::pair<ClipStatus, const char*>> names = {
@@ -443,19 +445,8 @@ std::vector<std::string> write_summary(const std::string& folder, const BatchSum
 }
 
 BatchSummary parse_summary(const std::string& text, const std::string& file) {
-  Json j;
-  try {
-    j = Json::parse(text);
-  } catch (const Json::parse_error& e) {
-    // Byte offset -> line:column for the message.
-    const std::size_t at = std::min<std::size_t>(e.byte > 0 ? e.byte - 1 : 0, text.size());
-    const std::size_t line = 1 + static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<long>(at), '\n'));
-    const std::size_t nl = text.rfind('\n', at == 0 ? 0 : at - 1);
-    const std::size_t col = nl == std::string::npos ? at + 1 : at - nl;
-    throw InputError(file + ":" + std::to_string(line) + ":" + std::to_string(col), "malformed JSON");
-  }
+  const Json j = parse_json_object(text, file, "a batch summary", kMaxJsonDepth);
   const Reader r{file};
-  if (!j.is_object()) r.fail("", "expected a JSON object");
   if (r.str(j, "format", "format") != kSummaryFormat)
     r.fail("format", std::string("not a batch summary (expected \"") + kSummaryFormat + "\")");
   const int version = r.integer(j, "format_version", "format_version");

@@ -11,6 +11,7 @@
 
 #include "retarget/core/error.hpp"
 #include "retarget/core/file_io.hpp"
+#include "retarget/core/json_document.hpp"
 #include "retarget/core/strings.hpp"
 #include "retarget/report/check_plots.hpp"
 #include "replan_bursts.hpp"
@@ -199,48 +200,6 @@ std::string span_text(const Violation& v) {
 
 // ---- reading -----------------------------------------------------------------------------------
 
-int json_depth(const Json& j, int limit) {
-  if (!j.is_structured() || limit <= 0) return 0;
-  int deepest = 0;
-  for (const auto& v : j) deepest = std::max(deepest, json_depth(v, limit - 1));
-  return deepest + 1;
-}
-
-// 1-based line and column of byte offset `byte` (nlohmann points just past the offending character).
-std::string text_loc(const std::string& file, std::string_view text, std::size_t byte) {
-  const std::size_t end = std::min(byte > 0 ? byte - 1 : 0, text.size());
-  std::size_t line = 1, col = 1;
-  for (std::size_t i = 0; i < end; ++i) {
-    if (text[i] == '\n') {
-      ++line;
-      col = 1;
-    } else {
-      ++col;
-    }
-  }
-  return format("%s:%zu:%zu", file.c_str(), line, col);
-}
-
-std::string one_line(std::string s) {
-  for (char& c : s)
-    if (static_cast<unsigned char>(c) < 0x20) c = ' ';
-  return s;
-}
-
-std::string type_of(const Json& j) {
-  switch (j.type()) {
-    case Json::value_t::null: return "null";
-    case Json::value_t::boolean: return "a boolean";
-    case Json::value_t::string: return "a string";
-    case Json::value_t::array: return "an array";
-    case Json::value_t::object: return "an object";
-    case Json::value_t::number_integer:
-    case Json::value_t::number_unsigned:
-    case Json::value_t::number_float: return "a number";
-    default: return "an unsupported value";
-  }
-}
-
 // Typed access by key path, with `file [path]` in every error.
 class Reader {
  public:
@@ -259,14 +218,14 @@ class Reader {
 
   bool boolean(const Json& obj, const std::string& parent, const char* key) const {
     const Json& j = at(obj, parent, key);
-    if (!j.is_boolean()) fail(path(parent, key), "expected a boolean, got " + type_of(j));
+    if (!j.is_boolean()) fail(path(parent, key), "expected a boolean, got " + json_type_phrase(j));
     return j.get<bool>();
   }
   /// null reads as NaN when `nullable`.
   double number(const Json& obj, const std::string& parent, const char* key, bool nullable = false) const {
     const Json& j = at(obj, parent, key);
     if (nullable && j.is_null()) return kNaN;
-    if (!j.is_number()) fail(path(parent, key), "expected a number, got " + type_of(j));
+    if (!j.is_number()) fail(path(parent, key), "expected a number, got " + json_type_phrase(j));
     return j.get<double>();
   }
   int count(const Json& obj, const std::string& parent, const char* key) const {
@@ -279,17 +238,17 @@ class Reader {
   }
   std::string string(const Json& obj, const std::string& parent, const char* key) const {
     const Json& j = at(obj, parent, key);
-    if (!j.is_string()) fail(path(parent, key), "expected a string, got " + type_of(j));
+    if (!j.is_string()) fail(path(parent, key), "expected a string, got " + json_type_phrase(j));
     return j.get<std::string>();
   }
   const Json& object(const Json& obj, const std::string& parent, const char* key) const {
     const Json& j = at(obj, parent, key);
-    if (!j.is_object()) fail(path(parent, key), "expected an object, got " + type_of(j));
+    if (!j.is_object()) fail(path(parent, key), "expected an object, got " + json_type_phrase(j));
     return j;
   }
   const Json& array(const Json& obj, const std::string& parent, const char* key) const {
     const Json& j = at(obj, parent, key);
-    if (!j.is_array()) fail(path(parent, key), "expected an array, got " + type_of(j));
+    if (!j.is_array()) fail(path(parent, key), "expected an array, got " + json_type_phrase(j));
     return j;
   }
 
@@ -461,26 +420,7 @@ std::vector<std::string> write_check_report(const std::string& folder, const Dyn
 }
 
 CheckReportSummary parse_check_report(const std::string& text, const std::string& file) {
-  Json j;
-  try {
-    j = Json::parse(text.begin(), text.end());
-  } catch (const Json::parse_error& e) {
-    // what() is "[json.exception.parse_error.101] parse error at line 3, column 5: <detail>";
-    // keep the detail, use our own location format.
-    std::string what = one_line(e.what());
-    const auto colon = what.find(": ", what.find("parse error"));
-    if (colon != std::string::npos) what = what.substr(colon + 2);
-    throw InputError(text_loc(file, text, e.byte), "invalid JSON: " + what.substr(0, 300));
-  } catch (const Json::exception& e) {
-    std::string what = one_line(e.what());
-    const auto bracket = what.find("] ");
-    if (bracket != std::string::npos) what = what.substr(bracket + 2);
-    throw InputError(file, "invalid JSON: " + what.substr(0, 300));
-  }
-  if (!j.is_object()) throw InputError(file + ":1:1", "a check report must be a JSON object");
-  if (json_depth(j, kMaxJsonDepth + 1) > kMaxJsonDepth)
-    throw InputError(file, format("JSON nests deeper than %d levels", kMaxJsonDepth));
-
+  const Json j = parse_json_object(text, file, "a check report", kMaxJsonDepth);
   const Reader in(file);
   CheckReportSummary s;
   const std::string format_name = in.string(j, "", "format");
@@ -517,7 +457,7 @@ CheckReportSummary parse_check_report(const std::string& text, const std::string
   for (std::size_t i = 0; i < vs.size(); ++i) {
     const std::string where = format("violations[%zu]", i);
     const Json& v = vs[i];
-    if (!v.is_object()) in.fail(where, "expected an object, got " + type_of(v));
+    if (!v.is_object()) in.fail(where, "expected an object, got " + json_type_phrase(v));
     Violation out;
     const std::string kind = in.string(v, where, "kind");
     if (!violation_kind_from_name(kind, out.kind)) in.fail(where + ".kind", "unknown violation kind \"" + one_line(kind).substr(0, 60) + "\"");

@@ -15,6 +15,9 @@ bool ends_with(std::string_view s, std::string_view suffix);
 std::vector<std::string> split(std::string_view s, std::string_view separators);
 /// Joins with a separator.
 std::string join(const std::vector<std::string>& parts, std::string_view separator);
+/// Control characters (newline, tab, ...) replaced by spaces, so that a value quoted in a one-line
+/// error message keeps it one line.
+std::string one_line(std::string s);
 /// printf-style formatting into a std::string.
 std::string format(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
 
