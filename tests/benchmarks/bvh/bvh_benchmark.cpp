@@ -8,58 +8,21 @@
 // normalisation), and prints the medians as frames/s and MB/s. The total line divides the summed
 // frames and bytes by the summed medians. Single-threaded; build in Release.
 
-#include <algorithm>
-#include <chrono>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <vector>
 
 #include "formats/bvh/bvh_reader.hpp"
+#include "../bench_util.hpp"
 #include "retarget/core/error.hpp"
 #include "retarget/motion/bvh/bvh_motion.hpp"
 
-namespace {
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
-
-template <class F>
-double median_seconds(int runs, F&& work) {
-  std::vector<double> t;
-  for (int r = 0; r < runs; ++r) {
-    const auto t0 = std::chrono::steady_clock::now();
-    work();
-    t.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-  }
-  return median(std::move(t));
-}
-
-}  // namespace
-
 int main(int argc, char** argv) {
-  int runs = 9;
-  std::vector<std::string> inputs;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--runs" && i + 1 < argc) runs = std::max(1, std::atoi(argv[++i]));
-    else inputs.push_back(a);
-  }
-  if (inputs.empty()) inputs.push_back(std::string(RT_SHARED_DATA_DIR) + "/bvh");
-  std::vector<std::string> files;
-  for (const std::string& in : inputs) {
-    std::error_code ec;
-    if (std::filesystem::is_directory(in, ec)) {
-      for (const auto& e : std::filesystem::directory_iterator(in))
-        if (e.path().extension() == ".bvh") files.push_back(e.path().string());
-    } else {
-      files.push_back(in);
-    }
-  }
-  std::sort(files.begin(), files.end());
+  const rt::bench::FileBenchArgs args =
+      rt::bench::parse_file_bench_args(argc, argv, ".bvh", std::string(RT_SHARED_DATA_DIR) + "/bvh");
+  const int runs = args.runs;
+  const std::vector<std::string>& files = args.files;
   if (files.empty()) {
     std::fprintf(stderr, "no .bvh files found (shared data absent?): pass files or folders\n");
     return 1;
@@ -72,8 +35,8 @@ int main(int argc, char** argv) {
     try {
       const double mb = static_cast<double>(std::filesystem::file_size(path)) / 1e6;
       int frames = 0;
-      const double parse_s = median_seconds(runs, [&] { frames = rt::read_bvh(path).num_frames; });
-      const double load_s = median_seconds(runs, [&] { (void)rt::load_bvh_motion(path); });
+      const double parse_s = rt::bench::median_seconds(runs, [&] { frames = rt::read_bvh(path).num_frames; });
+      const double load_s = rt::bench::median_seconds(runs, [&] { (void)rt::load_bvh_motion(path); });
       total_frames += frames;
       total_mb += mb;
       total_parse_s += parse_s;

@@ -10,58 +10,21 @@
 // sample) are timed for decoding only. The total line divides the summed frames and bytes by the
 // summed medians. Single-threaded; build in Release.
 
-#include <algorithm>
-#include <chrono>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <vector>
 
 #include "formats/c3d/c3d_reader.hpp"
+#include "../bench_util.hpp"
 #include "retarget/core/error.hpp"
 #include "retarget/motion/c3d/c3d_motion.hpp"
 
-namespace {
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
-
-template <class F>
-double median_seconds(int runs, F&& work) {
-  std::vector<double> t;
-  for (int r = 0; r < runs; ++r) {
-    const auto t0 = std::chrono::steady_clock::now();
-    work();
-    t.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-  }
-  return median(std::move(t));
-}
-
-}  // namespace
-
 int main(int argc, char** argv) {
-  int runs = 9;
-  std::vector<std::string> inputs;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--runs" && i + 1 < argc) runs = std::max(1, std::atoi(argv[++i]));
-    else inputs.push_back(a);
-  }
-  if (inputs.empty()) inputs.push_back(std::string(RT_SHARED_DATA_DIR) + "/c3d");
-  std::vector<std::string> files;
-  for (const std::string& in : inputs) {
-    std::error_code ec;
-    if (std::filesystem::is_directory(in, ec)) {
-      for (const auto& e : std::filesystem::directory_iterator(in))
-        if (e.path().extension() == ".c3d") files.push_back(e.path().string());
-    } else {
-      files.push_back(in);
-    }
-  }
-  std::sort(files.begin(), files.end());
+  const rt::bench::FileBenchArgs args =
+      rt::bench::parse_file_bench_args(argc, argv, ".c3d", std::string(RT_SHARED_DATA_DIR) + "/c3d");
+  const int runs = args.runs;
+  const std::vector<std::string>& files = args.files;
   if (files.empty()) {
     std::fprintf(stderr, "no .c3d files found (shared data absent?): pass files or folders\n");
     return 1;
@@ -76,7 +39,7 @@ int main(int argc, char** argv) {
     try {
       const double mb = static_cast<double>(std::filesystem::file_size(path)) / 1e6;
       int frames = 0;
-      const double d = median_seconds(runs, [&] { frames = rt::c3d::read_c3d(path).points.num_frames; });
+      const double d = rt::bench::median_seconds(runs, [&] { frames = rt::c3d::read_c3d(path).points.num_frames; });
       decode_frames += frames;
       decode_mb += mb;
       decode_s += d;
@@ -84,7 +47,7 @@ int main(int argc, char** argv) {
       std::string load_error;
       try {
         (void)rt::load_c3d_motion(path, rt::MotionLoadOptions{});
-        l = median_seconds(runs, [&] { (void)rt::load_c3d_motion(path, rt::MotionLoadOptions{}); });
+        l = rt::bench::median_seconds(runs, [&] { (void)rt::load_c3d_motion(path, rt::MotionLoadOptions{}); });
         load_frames += frames;
         load_mb += mb;
         load_s += l;
