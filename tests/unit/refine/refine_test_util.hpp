@@ -145,4 +145,19 @@ inline Converted convert(const RobotModel& model, const std::string& path, int f
   return out;
 }
 
+/// The kinematic acceptance metrics of issue 4 after refine + ground (design.md §6): no failed
+/// window, no limit violations, skating p95 <= 1 cm, penetration <= 2 mm, less jitter than
+/// per-frame IK, flat soles on the floor at frame 0.
+inline void expect_refine_acceptance(const Converted& c) {
+  ASSERT_NE(c.refine, nullptr);
+  EXPECT_EQ(c.refine->get("failed-windows", -1), 0);
+  EXPECT_EQ(c.quality.position_limit_violations, 0);
+  EXPECT_EQ(c.quality.velocity_limit_violations, 0);
+  EXPECT_LE(c.quality.foot_skating_p95_m, 0.01);
+  EXPECT_LE(c.quality.penetration_max_m, 0.002);
+  EXPECT_LT(c.quality.jitter_rad_s3, c.quality.jitter_per_frame_ik_rad_s3);
+  EXPECT_LT(c.quality.frame0_sole_tilt_deg, 0.5);
+  EXPECT_LT(std::abs(c.quality.frame0_sole_height_m), 0.001);
+}
+
 }  // namespace rt::test
