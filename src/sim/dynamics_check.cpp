@@ -49,6 +49,15 @@ int joint_group(const std::string& name) {
   return 1;
 }
 
+// Height of the lowest corner of sole `foot` above the floor [m].
+double sole_height(const RobotModel& model, const RobotData& data, int foot) {
+  const Sole& sole = model.soles()[static_cast<std::size_t>(foot)];
+  const Iso3 X = link_pose(model, data, sole.link);
+  double lowest = INFINITY;
+  for (const Vec3& c : sole.corners_L()) lowest = std::min(lowest, (X * c).z());
+  return lowest;
+}
+
 std::vector<int> tracking_contact_feet(const std::array<bool, 2>& contact) {
   std::vector<int> feet;
   for (int f = 0; f < 2; ++f)
@@ -126,6 +135,7 @@ DynamicsCheckResult run_dynamics_check(const RobotModel& model, const Reference&
   const double dt_ctrl = substeps * dt_sim;
   const double weight_n = model.total_mass_kg() * kGravity;
   const double load_threshold_n = o.contact_force_fraction * weight_n;
+  const double touch_threshold_n = o.touch_force_fraction * weight_n;
   const double friction = model.config().simulation.friction;
 
   BalanceOptions bo = o.balance;
@@ -144,12 +154,7 @@ DynamicsCheckResult run_dynamics_check(const RobotModel& model, const Reference&
   TrunkTransform map;
   VecX q0 = signal.at(0, map).q;
   update_kinematics(model, ctrl_data, q0);
-  double lowest = INFINITY;
-  for (const Sole& sole : model.soles()) {
-    const Iso3 X = link_pose(model, ctrl_data, sole.link);
-    for (const Vec3& c : sole.corners_L()) lowest = std::min(lowest, (X * c).z());
-  }
-  q0[2] -= lowest;
+  q0[2] -= std::min(sole_height(model, ctrl_data, 0), sole_height(model, ctrl_data, 1));
   plant.reset(q0, VecX::Zero(model.nv()));
   update_kinematics(model, ctrl_data, q0);
   BalanceState bstate = balance.rest_state(com_position(model, ctrl_data).head<2>());
@@ -251,6 +256,15 @@ DynamicsCheckResult run_dynamics_check(const RobotModel& model, const Reference&
     }
     std::array<bool, 2> loaded{};
     for (int f = 0; f < 2; ++f) loaded[static_cast<std::size_t>(f)] = contacts.feet[static_cast<std::size_t>(f)].normal_force_n > load_threshold_n;
+    // On the floor: pressing on it, or resting on it with (almost) no load. The second matters when
+    // the reference itself shifts nearly all the weight onto the other foot before a lift.
+    std::array<bool, 2> on_floor{};
+    std::array<double, 2> sole_z{};
+    for (int f = 0; f < 2; ++f) {
+      const auto fi = static_cast<std::size_t>(f);
+      sole_z[fi] = sole_height(model, ctrl_data, f);
+      on_floor[fi] = contacts.feet[fi].normal_force_n > touch_threshold_n || sole_z[fi] < o.on_floor_gap_m;
+    }
     if (r.contact != prev_contact) contact_change_pending = true;
     prev_contact = r.contact;
     if (o.trunk_mapping && contact_change_pending && (r.contact[0] || r.contact[1])) {
@@ -448,8 +462,9 @@ DynamicsCheckResult run_dynamics_check(const RobotModel& model, const Reference&
         const Sole& sole = model.soles()[fi];
         const double fn = contacts.feet[fi].normal_force_n;
         // Detail strings are only built while a condition holds (this runs every control cycle).
-        const bool unmet = r.contact[fi] && !loaded[fi];
-        not_achieved[fi].update(t_clip, unmet, fn, unmet ? format("%s carries %.0f N", foot_name[f], fn) : "", out);
+        const bool unmet = r.contact[fi] && !on_floor[fi];
+        not_achieved[fi].update(t_clip, unmet, fn,
+                                unmet ? format("%s %.0f mm above the floor, carries %.0f N", foot_name[f], sole_z[fi] * 1e3, fn) : "", out);
         const bool stuck = !r.contact[fi] && loaded[fi];
         no_lift_off[fi].update(t_clip, stuck, fn, stuck ? format("%s still carries %.0f N", foot_name[f], fn) : "", out);
         const MatX J = link_jacobian(model, ctrl_data, sole.link, sole.p_L_center);

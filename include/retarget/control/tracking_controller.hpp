@@ -36,7 +36,11 @@ struct TrackingWeights {
   double cop = 10.0;            ///< W_b: moment about the desired COP [(N m)⁻²]
   double foot_cop = 1.0;        ///< W_p: moment of each foot wrench about its sole centre [(N m)⁻²]
   double torque = 1e-6;         ///< W_τ [(N m)⁻²]
-  double force = 1e-8;          ///< W_f on contact forces and moments
+  /// W_f on contact forces and moments [N⁻², (N m)⁻²]. Not negligible: the internal force between
+  /// two feet in contact is free otherwise, and the solution spends it on lower joint torques by
+  /// pinching the feet at the friction limit; a lightly loaded foot then slides and spins (slow
+  /// steps on G1 fell with 1e-8).
+  double force = 1e-4;
   double com_moment = 1e-3;     ///< W_m: total contact moment about the COM [(N m)⁻²]
 };
 

@@ -41,7 +41,15 @@ struct DynamicsCheckOptions {
   ComReplanOptions replan;          ///< N, period, h_max, w
 
   // Violation thresholds.
-  double contact_force_fraction = 0.05;  ///< a foot carries load above this fraction of the body weight
+  /// A foot carries load above this fraction of the body weight: it spans the support polygon, and
+  /// a reference swing foot still carrying it has not lifted off.
+  double contact_force_fraction = 0.05;
+  /// A foot is on the floor when it presses on it with more than this fraction of the body weight or
+  /// its lowest sole corner is less than `on_floor_gap_m` above it. A reference stance foot that is
+  /// not has not achieved its contact; one resting on the floor with little load has (the reference
+  /// may shift nearly all the weight onto the other foot before a lift).
+  double touch_force_fraction = 0.01;
+  double on_floor_gap_m = 0.002;  ///< [m]
   double contact_tolerance_s = 0.15;     ///< [s] allowed lag between a reference contact change and the robot's
   double cop_margin_m = 0.01;            ///< [m] COP closer than this to the support edge is reported
   double slip_speed_mps = 0.10;          ///< [m/s] loaded stance foot faster than this slides
