@@ -2,6 +2,8 @@
 
 #include <mujoco/mujoco.h>
 
+#include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include "retarget/core/error.hpp"
@@ -155,6 +157,14 @@ std::array<Mat3, 2> sole_frames_in_links(const RobotModel& model, RobotData& dat
   for (int foot = 0; foot < 2; ++foot)
     R[static_cast<std::size_t>(foot)] = link_pose(model, data, model.soles()[static_cast<std::size_t>(foot)].link).linear().transpose();
   return R;
+}
+
+double lowest_sole_corner_z(const RobotModel& model, const RobotData& data, int foot) {
+  const Sole& sole = model.soles()[static_cast<std::size_t>(foot)];
+  const Iso3 X = link_pose(model, data, sole.link);
+  double z = INFINITY;
+  for (const Vec3& c : sole.corners_L()) z = std::min(z, (X * c).z());
+  return z;
 }
 
 }  // namespace rt

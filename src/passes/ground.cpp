@@ -9,14 +9,6 @@
 
 namespace rt {
 
-double lowest_sole_corner_z(const RobotModel& model, const RobotData& data, int foot) {
-  const Sole& sole = model.soles()[static_cast<std::size_t>(foot)];
-  const Iso3 X = link_pose(model, data, sole.link);
-  double z = INFINITY;
-  for (const Vec3& c : sole.corners_L()) z = std::min(z, (X * c).z());
-  return z;
-}
-
 GroundPass::GroundPass() {
   table_.add("smoothing", options_.smoothing_s, "[s] moving-average width of the height offset");
 }

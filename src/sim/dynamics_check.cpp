@@ -49,15 +49,6 @@ int joint_group(const std::string& name) {
   return 1;
 }
 
-// Height of the lowest corner of sole `foot` above the floor [m].
-double sole_height(const RobotModel& model, const RobotData& data, int foot) {
-  const Sole& sole = model.soles()[static_cast<std::size_t>(foot)];
-  const Iso3 X = link_pose(model, data, sole.link);
-  double lowest = INFINITY;
-  for (const Vec3& c : sole.corners_L()) lowest = std::min(lowest, (X * c).z());
-  return lowest;
-}
-
 std::vector<int> tracking_contact_feet(const std::array<bool, 2>& contact) {
   std::vector<int> feet;
   for (int f = 0; f < 2; ++f)
@@ -154,7 +145,7 @@ DynamicsCheckResult run_dynamics_check(const RobotModel& model, const Reference&
   TrunkTransform map;
   VecX q0 = signal.at(0, map).q;
   update_kinematics(model, ctrl_data, q0);
-  q0[2] -= std::min(sole_height(model, ctrl_data, 0), sole_height(model, ctrl_data, 1));
+  q0[2] -= std::min(lowest_sole_corner_z(model, ctrl_data, 0), lowest_sole_corner_z(model, ctrl_data, 1));
   plant.reset(q0, VecX::Zero(model.nv()));
   update_kinematics(model, ctrl_data, q0);
   BalanceState bstate = balance.rest_state(com_position(model, ctrl_data).head<2>());
@@ -179,14 +170,7 @@ DynamicsCheckResult run_dynamics_check(const RobotModel& model, const Reference&
   };
 
   const double com_fall_z = o.fall_com_fraction * model.standing_com_height_m();
-  std::array<Mat3, 2> R_L_sole;  // sole frames in the foot link frames (zero configuration)
-  {
-    VecX q_zero = VecX::Zero(model.nq());
-    q_zero[3] = 1;
-    update_kinematics(model, ref_data, q_zero);
-    for (int f = 0; f < 2; ++f)
-      R_L_sole[static_cast<std::size_t>(f)] = link_pose(model, ref_data, model.soles()[static_cast<std::size_t>(f)].link).linear().transpose();
-  }
+  const std::array<Mat3, 2> R_L_sole = sole_frames_in_links(model, ref_data);
   std::array<std::optional<Iso3>, 2> stance_pose;
   std::array<bool, 2> prev_contact = signal.contact_at(0);
   bool contact_change_pending = false;
@@ -262,7 +246,7 @@ DynamicsCheckResult run_dynamics_check(const RobotModel& model, const Reference&
     std::array<double, 2> sole_z{};
     for (int f = 0; f < 2; ++f) {
       const auto fi = static_cast<std::size_t>(f);
-      sole_z[fi] = sole_height(model, ctrl_data, f);
+      sole_z[fi] = lowest_sole_corner_z(model, ctrl_data, f);
       on_floor[fi] = contacts.feet[fi].normal_force_n > touch_threshold_n || sole_z[fi] < o.on_floor_gap_m;
     }
     if (r.contact != prev_contact) contact_change_pending = true;

@@ -68,4 +68,8 @@ VecX difference(const RobotModel& model, const VecXCRef& q1, const VecXCRef& q2,
 /// robot's zero configuration where soles are level and face +X. Updates `data`.
 std::array<Mat3, 2> sole_frames_in_links(const RobotModel& model, RobotData& data);
 
+/// Height [m] of the lowest corner of sole `foot` (0 left, 1 right) above the floor z = 0, at the
+/// configuration last given to update_kinematics.
+double lowest_sole_corner_z(const RobotModel& model, const RobotData& data, int foot);
+
 }  // namespace rt

@@ -27,7 +27,4 @@ class GroundPass final : public Pass {
   OptionTable table_;
 };
 
-/// Lowest sole-corner height [m] of a foot at the configuration last given to update_kinematics.
-double lowest_sole_corner_z(const RobotModel& model, const RobotData& data, int foot);
-
 }  // namespace rt
