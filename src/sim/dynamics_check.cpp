@@ -6,6 +6,7 @@
 #include <limits>
 #include <map>
 #include <optional>
+#include <unordered_map>
 
 #include "retarget/balance/support_polygon.hpp"
 #include "retarget/core/error.hpp"
@@ -162,6 +163,16 @@ DynamicsCheckResult run_dynamics_check(const RobotModel& model, const Reference&
     if (!o.balance_feedforward) return BalanceReference::at_rest(original_com(t_sim));
     return BalanceReference::from_com_motion(signal.com_motion_at(t_sim - o.settle_s, map), omega_sq);
   };
+  // The reference COP over the planner's window, memoised on a 1 µs grid: consecutive planning
+  // steps ask for nearly the same future times, and it only changes when the trunk map does.
+  std::unordered_map<long long, Vec2> cop_ref_memo;
+  auto reference_cop = [&](double t_sim) -> Vec2 {
+    const long long key = std::llround(t_sim * 1e6);
+    const auto it = cop_ref_memo.find(key);
+    if (it != cop_ref_memo.end()) return it->second;
+    if (cop_ref_memo.size() > 100000) cop_ref_memo.clear();  // bounded: about 4 min of clip
+    return cop_ref_memo.emplace(key, balance_reference(t_sim).cop()).first->second;
+  };
   auto delta_at = [&](double t_sim) -> Vec2 {
     const double s = std::clamp(t_sim / dt_plan, 0.0, static_cast<double>(K - 1));
     const int k = std::min(static_cast<int>(s), K - 2);
@@ -194,7 +205,11 @@ DynamicsCheckResult run_dynamics_check(const RobotModel& model, const Reference&
   double joint_sq = 0, com_sq = 0, cop_sq = 0;
   long joint_n = 0, clip_ticks = 0, cop_n = 0;
   double next_record = 0, next_plan = 0;
-  std::map<int, SupportFrame> support_cache;  // per reference frame, rebuilt every planner tick
+  // Support per reference frame for the planner. It depends on the trunk map, which feet are loaded
+  // and held, and the current reference frame; kept across planner ticks while none of them changes.
+  std::map<int, SupportFrame> support_cache;
+  std::array<int, 7> support_inputs{};
+  int stance_pose_changes = 0;
   Eigen::Matrix2Xd y_offset(2, N);            // reference COP over the planner's window
   TrackingProblem tproblem;                   // tracking controller storage, reused every cycle
   TrackingWorkspace tworkspace;
@@ -268,6 +283,7 @@ DynamicsCheckResult run_dynamics_check(const RobotModel& model, const Reference&
           for (const Vec3& c : sole.corners_L()) p_act.push_back(X_link * c);
         }
         map = compute_trunk_transform(p_ref, p_act, o.trunk);
+        cop_ref_memo.clear();
         contact_change_pending = false;
         ++res.trunk_mapping_updates;
         r = signal.at(t_ref, map);
@@ -291,12 +307,18 @@ DynamicsCheckResult run_dynamics_check(const RobotModel& model, const Reference&
         x0 -= balance_reference(t_sim).s_ref;
         for (int j = 0; j < N; ++j) {
           U.col(j) = com_delta.col(k0 + j);
-          y_offset.col(j) = balance_reference(t_sim + (j + 1) * dt_plan).cop();
+          y_offset.col(j) = reference_cop(t_sim + (j + 1) * dt_plan);
         }
       } else {
         for (int j = 0; j < N; ++j) U.col(j) = original_com(t_sim + j * dt_plan) + com_delta.col(k0 + j);
       }
-      support_cache.clear();
+      const std::array<bool, 2> contact_now = signal.contact_at(t_ref);
+      const std::array<int, 7> inputs = {static_cast<int>(std::lround(t_ref * signal.fps())), loaded[0], loaded[1],
+                                         contact_now[0], contact_now[1], stance_pose_changes, res.trunk_mapping_updates};
+      if (inputs != support_inputs) {
+        support_cache.clear();
+        support_inputs = inputs;
+      }
       const auto support = [&](int j) -> const SupportFrame& {
         const double tj = clip_time(t_sim + j * dt_plan);
         const int frame = std::clamp(static_cast<int>(std::lround(tj * signal.fps())), 0, signal.num_frames() - 1);
@@ -314,8 +336,7 @@ DynamicsCheckResult run_dynamics_check(const RobotModel& model, const Reference&
           X_mapped.translation() = map.apply_position(X_ref.translation());
           X_mapped.linear() = map.Omega() * X_ref.linear();
           Iso3 X = flat_on_floor(X_mapped);
-          if (loaded[static_cast<std::size_t>(f)] && stance_pose[static_cast<std::size_t>(f)] &&
-              signal.contact_at(t_ref)[static_cast<std::size_t>(f)]) {
+          if (loaded[static_cast<std::size_t>(f)] && stance_pose[static_cast<std::size_t>(f)] && contact_now[static_cast<std::size_t>(f)]) {
             bool stays = true;
             for (int g = static_cast<int>(std::lround(t_ref * signal.fps())); g <= frame && stays; ++g)
               stays = signal.contacts()[static_cast<std::size_t>(f)][static_cast<std::size_t>(std::min(g, signal.num_frames() - 1))] != 0;
@@ -375,13 +396,17 @@ DynamicsCheckResult run_dynamics_check(const RobotModel& model, const Reference&
           X.translation() = X_link * sole.p_L_center;
           X.linear() = X_link.linear() * R_L_sole[fi];
           tr.X_W_sole[fi] = X;
-          if (!stance_pose[fi]) stance_pose[fi] = flat_on_floor(X);
+          if (!stance_pose[fi]) {
+            stance_pose[fi] = flat_on_floor(X);
+            ++stance_pose_changes;
+          }
         } else {
           tr.X_W_sole[fi] = stance_pose[fi] ? *stance_pose[fi] : flat_on_floor(r.X_W_sole[fi]);
         }
         tr.v_sole[fi].setZero();
         tr.a_sole[fi].setZero();
       } else {
+        if (stance_pose[fi]) ++stance_pose_changes;
         stance_pose[fi].reset();
         tr.X_W_sole[fi] = r.X_W_sole[fi];
         tr.v_sole[fi] = r.v_sole[fi];
