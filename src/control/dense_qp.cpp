@@ -37,10 +37,11 @@ QpStatus DenseQp::solve(const MatX& H, const VecX& g, const MatX& C, const VecX&
   }
   llt_.compute(H);
   if (llt_.info() != Eigen::Success) return QpStatus::NotConvex;
-  H_inv_.setIdentity(n, n);
-  llt_.solveInPlace(H_inv_);
-  x.noalias() = -H_inv_ * g;
+  x = -g;
+  llt_.solveInPlace(x);
   if (m == 0) return QpStatus::Solved;
+  row_norm_ = C.rowwise().norm();
+  bool have_H_inv = false;  // H⁻¹ only once a constraint enters the working set
 
   N_.resize(n, n);
   HiN_.resize(n, n);
@@ -58,7 +59,7 @@ QpStatus DenseQp::solve(const MatX& H, const VecX& g, const MatX& C, const VecX&
     double worst = 0;
     for (Eigen::Index i = 0; i < m; ++i) {
       if (in_active_[static_cast<std::size_t>(i)]) continue;
-      const double norm = C.row(i).norm();
+      const double norm = row_norm_[i];
       if (!(norm > 0)) continue;
       const double scaled = s_[i] / norm;
       if (scaled < -o.tolerance * x_scale && scaled < worst) {
@@ -67,6 +68,11 @@ QpStatus DenseQp::solve(const MatX& H, const VecX& g, const MatX& C, const VecX&
       }
     }
     if (p < 0) return QpStatus::Solved;
+    if (!have_H_inv) {
+      H_inv_.setIdentity(n, n);
+      llt_.solveInPlace(H_inv_);
+      have_H_inv = true;
+    }
 
     double u_p = 0;
     for (;;) {

@@ -3,6 +3,7 @@
 #include <mujoco/mujoco.h>
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <cmath>
 
 #include "retarget/core/error.hpp"
@@ -65,6 +66,11 @@ TrackingController::TrackingController(const RobotModel& model, TrackingOptions 
   w_q_.head<3>().setConstant(w.root_linear);
   w_q_.segment<3>(3).setConstant(w.root_angular);
   w_q_.tail(nu).setConstant(w.joint);
+  std::vector<int> dofs = link_dof_chain(model, model.soles()[0].link);
+  for (int j : link_dof_chain(model, model.soles()[1].link)) dofs.push_back(j);
+  std::sort(dofs.begin(), dofs.end());
+  dofs.erase(std::unique(dofs.begin(), dofs.end()), dofs.end());
+  feet_dofs_ = std::move(dofs);
   const ContactConstraintOptions& c = options_.contact;
   friction_ = c.friction > 0 ? c.friction : model.config().simulation.friction;
   if (c.enabled && !(friction_ > 0 && c.friction_margin > 0 && c.cop_margin > 0 && c.cop_margin <= 1 &&
@@ -149,8 +155,6 @@ void TrackingController::build(RobotData& data, const VecXCRef& q, const VecXCRe
   p.contact_feet.clear();
   p.r_contact_W.clear();
   p.R_contact_W.clear();
-  const std::vector<Vec6> jdot_v = links_jdot_v(model, data, {model.soles()[0].link, model.soles()[1].link},
-                                                 {model.soles()[0].p_L_center, model.soles()[1].p_L_center});
   ws.J_link.resize(3, 2 * nv);
   for (int foot = 0; foot < 2; ++foot) {
     const Sole& sole = model.soles()[static_cast<std::size_t>(foot)];
@@ -161,7 +165,7 @@ void TrackingController::build(RobotData& data, const VecXCRef& q, const VecXCRe
     mj_jac(m, d, jp_t.data(), jr_t.data(), p_W_sole.data(), model.links()[static_cast<std::size_t>(sole.link)].body);
     p.J_feet.middleRows(6 * foot, 3) = jp_t.transpose();
     p.J_feet.middleRows(6 * foot + 3, 3) = jr_t.transpose();
-    p.Jdot_v_feet.segment<6>(6 * foot) = jdot_v[static_cast<std::size_t>(foot)];
+    p.Jdot_v_feet.segment<6>(6 * foot) = link_jdot_v(model, data, sole.link, sole.p_L_center);
     const Iso3& X_ref = ref.X_W_sole[static_cast<std::size_t>(foot)];
     Vec6 err;
     err.head<3>() = X_ref.translation() - p_W_sole;
@@ -180,17 +184,25 @@ void TrackingController::build(RobotData& data, const VecXCRef& q, const VecXCRe
       p.R_contact_W.push_back(AngleAxis(std::atan2(x_link.y(), x_link.x()), Vec3::UnitZ()).toRotationMatrix());
     }
   }
+  // The foot Jacobians are zero outside the dofs of the legs' chains (feet_dofs_): products with
+  // them run over those columns only.
+  const auto nk = static_cast<Eigen::Index>(feet_dofs_.size());
+  ws.J_K.resize(12, nk);
+  for (Eigen::Index k = 0; k < nk; ++k) ws.J_K.col(k) = p.J_feet.col(feet_dofs_[static_cast<std::size_t>(k)]);
 
   // Eq. (5): q̈̂' = q̈̂ + J_c⁺ (r̈̂ − J_c q̈̂ − J̇_c q̇), J_c⁺ = J_cᵀ (J_c J_cᵀ + λI)⁻¹.
+  ws.x_K.resize(nk);
+  for (Eigen::Index k = 0; k < nk; ++k) ws.x_K[k] = ws.qdd_hat[feet_dofs_[static_cast<std::size_t>(k)]];
   Eigen::Matrix<double, 12, 12> JJt;
-  JJt.noalias() = p.J_feet * p.J_feet.transpose();
+  JJt.noalias() = ws.J_K * ws.J_K.transpose();
   JJt.diagonal().array() += options_.pinv_damping;
   Eigen::Matrix<double, 12, 1> e12 = ws.rdd_hat - p.Jdot_v_feet;
-  e12.noalias() -= p.J_feet * ws.qdd_hat;
+  e12.noalias() -= ws.J_K * ws.x_K;
   const Eigen::LLT<Eigen::Matrix<double, 12, 12>> llt12(JJt);
   e12 = llt12.solve(e12);
+  ws.x_K.noalias() = ws.J_K.transpose() * e12;
   p.qdd_desired = ws.qdd_hat;
-  p.qdd_desired.noalias() += p.J_feet.transpose() * e12;
+  for (Eigen::Index k = 0; k < nk; ++k) p.qdd_desired[feet_dofs_[static_cast<std::size_t>(k)]] += ws.x_K[k];
 
   // Equation of motion: q̈ = M⁻¹ (S τ + J_fᵀ f − c) = G y + a0.
   const int nc = static_cast<int>(p.contact_feet.size());
@@ -199,12 +211,11 @@ void TrackingController::build(RobotData& data, const VecXCRef& q, const VecXCRe
   for (int i = 0; i < nc; ++i) p.J_contact.middleRows(6 * i, 6) = p.J_feet.middleRows(6 * p.contact_feet[static_cast<std::size_t>(i)], 6);
   const int ny = nu + p.nf;
   // G = M⁻¹ [S, J_fᵀ] through MuJoCo's sparse L'DL factor of M (mj_factorM ran in
-  // update_dynamics): each column of a column-major matrix is one right-hand side.
-  ws.SJ.setZero(nv, ny);
-  ws.SJ.bottomLeftCorner(nu, nu).setIdentity();
-  ws.SJ.rightCols(p.nf) = p.J_contact.transpose();
-  p.G.resize(nv, ny);
-  mj_solveM(m, data.mj(), p.G.data(), ws.SJ.data(), ny);
+  // update_dynamics), all right-hand sides at once.
+  p.G.setZero(nv, ny);
+  p.G.bottomLeftCorner(nu, nu).setIdentity();
+  p.G.rightCols(p.nf) = p.J_contact.transpose();
+  solve_mass_matrix(model, data, p.G);
   p.a0.resize(nv);
   mj_solveM(m, data.mj(), p.a0.data(), p.bias.data(), 1);
   p.a0 = -p.a0;
@@ -222,24 +233,28 @@ void TrackingController::build(RobotData& data, const VecXCRef& q, const VecXCRe
     p.V.block(0, 6 * i + 3, 3, 3).setIdentity();
   }
 
-  // Eq. (18): accumulate A and b term by term.
+  // Eq. (18). Z_q + Z_c = ½ |E y − e|² with E = [W_q^½ G; W_c^½ J_c G] and e the weighted
+  // residuals at y = 0: one rank update gives both terms of A, one product both terms of b.
   const TrackingWeights& w = options_.weights;
-  p.A.setZero(ny, ny);
-  p.b.setZero(ny);
-  // Z_q = ½ |q̈̂' − q̈|²_Wq   (rank updates fill the lower triangle; mirrored below)
-  ws.Gs = w_q_.cwiseSqrt().asDiagonal() * p.G;
-  p.A.selfadjointView<Eigen::Lower>().rankUpdate(ws.Gs.transpose());
-  ws.tmp_nv = w_q_.cwiseProduct(p.qdd_desired - p.a0);
-  p.b.noalias() -= p.G.transpose() * ws.tmp_nv;
-  // Z_c = ½ |r̈̂ − J_c q̈ − J̇_c q̇|²_Wc
   foot_weights(ref.contact, ws.w_c);
-  ws.H.noalias() = p.J_feet * p.G;
-  ws.tmp_12 = ws.rdd_hat - p.Jdot_v_feet;
-  ws.tmp_12.noalias() -= p.J_feet * p.a0;
-  ws.WH = ws.w_c.cwiseSqrt().asDiagonal() * ws.H;
-  p.A.selfadjointView<Eigen::Lower>().rankUpdate(ws.WH.transpose());
-  ws.tmp_12 = ws.w_c.cwiseProduct(ws.tmp_12);
-  p.b.noalias() -= ws.H.transpose() * ws.tmp_12;
+  ws.E.resize(nv + 12, ny);
+  ws.e.resize(nv + 12);
+  ws.E.topRows(nv).noalias() = w_q_.cwiseSqrt().asDiagonal() * p.G;
+  ws.e.head(nv) = w_q_.cwiseSqrt().cwiseProduct(p.qdd_desired - p.a0);
+  ws.G_K.resize(nk, ny);
+  for (Eigen::Index k = 0; k < nk; ++k) {
+    const int j = feet_dofs_[static_cast<std::size_t>(k)];
+    ws.G_K.row(k) = p.G.row(j);
+    ws.x_K[k] = p.a0[j];
+  }
+  ws.E.bottomRows(12).noalias() = ws.J_K * ws.G_K;
+  ws.E.bottomRows(12) = ws.w_c.cwiseSqrt().asDiagonal() * ws.E.bottomRows(12);
+  e12 = ws.rdd_hat - p.Jdot_v_feet;
+  e12.noalias() -= ws.J_K * ws.x_K;
+  ws.e.tail(12) = ws.w_c.cwiseSqrt().cwiseProduct(e12);
+  p.A.setZero(ny, ny);
+  p.A.selfadjointView<Eigen::Lower>().rankUpdate(ws.E.transpose());
+  p.b.noalias() = -ws.E.transpose() * ws.e;
   // Z_τ, Z_f with zero reference torque and force.
   p.A.topLeftCorner(nu, nu).diagonal().array() += w.torque;
   p.A.bottomRightCorner(p.nf, p.nf).diagonal().array() += w.force;

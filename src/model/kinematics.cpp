@@ -28,6 +28,13 @@ Iso3 body_pose(const mjData* d, int body) {
   return X;
 }
 
+// The last dof whose velocity moves `body` (its own, or its nearest ancestor's with dofs); the
+// dofs moving it are this one and its dof_parentid chain. -1 for a body welded to the world.
+int last_dof_moving(const mjModel* m, int body) {
+  while (body > 0 && m->body_dofnum[body] == 0) body = m->body_parentid[body];
+  return body > 0 ? m->body_dofadr[body] + m->body_dofnum[body] - 1 : -1;
+}
+
 }  // namespace
 
 void update_kinematics(const RobotModel& model, RobotData& data, const VecXCRef& q) {
@@ -53,6 +60,38 @@ void update_dynamics(const RobotModel& model, RobotData& data, const VecXCRef& q
   mj_factorM(m, d);
   mj_comVel(m, d);
   mj_rne(m, d, 0, d->qfrc_bias);
+}
+
+void assign_dynamics(const RobotModel& model, RobotData& data, const mjData& source) {
+  const mjModel* m = model.mj();
+  mjData* d = data.mj();
+  // What update_dynamics writes: its inputs, then the results of mj_kinematics, mj_comPos, mj_crb,
+  // mj_factorM, mj_comVel and mj_rne.
+  const auto copy = [](mjtNum* to, const mjtNum* from, int n) { mju_copy(to, from, n); };
+  copy(d->qpos, source.qpos, m->nq);
+  copy(d->qvel, source.qvel, m->nv);
+  copy(d->xpos, source.xpos, 3 * m->nbody);
+  copy(d->xquat, source.xquat, 4 * m->nbody);
+  copy(d->xmat, source.xmat, 9 * m->nbody);
+  copy(d->xipos, source.xipos, 3 * m->nbody);
+  copy(d->ximat, source.ximat, 9 * m->nbody);
+  copy(d->xanchor, source.xanchor, 3 * m->njnt);
+  copy(d->xaxis, source.xaxis, 3 * m->njnt);
+  copy(d->geom_xpos, source.geom_xpos, 3 * m->ngeom);
+  copy(d->geom_xmat, source.geom_xmat, 9 * m->ngeom);
+  copy(d->site_xpos, source.site_xpos, 3 * m->nsite);
+  copy(d->site_xmat, source.site_xmat, 9 * m->nsite);
+  copy(d->subtree_com, source.subtree_com, 3 * m->nbody);
+  copy(d->cinert, source.cinert, 10 * m->nbody);
+  copy(d->cdof, source.cdof, 6 * m->nv);
+  copy(d->crb, source.crb, 10 * m->nbody);
+  copy(d->qM, source.qM, m->nM);
+  copy(d->qLD, source.qLD, m->nM);
+  copy(d->qLDiagInv, source.qLDiagInv, m->nv);
+  copy(d->qLDiagSqrtInv, source.qLDiagSqrtInv, m->nv);
+  copy(d->cvel, source.cvel, 6 * m->nbody);
+  copy(d->cdof_dot, source.cdof_dot, 6 * m->nv);
+  copy(d->qfrc_bias, source.qfrc_bias, m->nv);
 }
 
 Iso3 link_pose(const RobotModel& model, const RobotData& data, int link) {
@@ -97,41 +136,67 @@ VecX bias_forces(const RobotModel& model, const RobotData& data) {
   return Eigen::Map<const VecX>(data.mj()->qfrc_bias, model.nv());
 }
 
-std::vector<Vec6> links_jdot_v(const RobotModel& model, RobotData& data, const std::vector<int>& links,
-                               const std::vector<Vec3>& p_L) {
-  RT_DEMAND(links.size() == p_L.size(), "links_jdot_v: one point per link");
+Vec6 link_jdot_v(const RobotModel& model, const RobotData& data, int link, const Vec3& p_L) {
+  const Link& l = checked_link(model, link);
   const mjModel* m = model.mj();
-  mjData* d = data.mj();
-  // MuJoCo 2.2.2 has no mj_jacDot: the body accelerations with q̈ = 0 are exactly J̇·v
-  // (dependencies.md §5). cacc carries a -gravity offset, added back below.
-  std::vector<mjtNum> saved_qacc(d->qacc, d->qacc + m->nv);
-  mju_zero(d->qacc, m->nv);
-  mj_rnePostConstraint(m, d);
-  std::vector<Vec6> out;
-  out.reserve(links.size());
-  for (std::size_t i = 0; i < links.size(); ++i) {
-    const Link& l = checked_link(model, links[i]);
-    const Vec3 p_W = link_point(model, data, links[i], p_L[i]);
-    const mjtNum* com = d->subtree_com + 3 * m->body_rootid[l.body];
-    mjtNum vel[6], acc[6];
-    // Spatial velocity and acceleration (MuJoCo order [angular; linear]) moved to the point.
-    mju_transformSpatial(vel, d->cvel + 6 * l.body, 0, p_W.data(), com, nullptr);
-    mju_transformSpatial(acc, d->cacc + 6 * l.body, 0, p_W.data(), com, nullptr);
-    const Vec3 omega(vel[0], vel[1], vel[2]);
-    const Vec3 v_p(vel[3], vel[4], vel[5]);
-    // Classical acceleration of the body-fixed point = spatial acceleration + ω × v_p (this carries
-    // the ω × (ω × r) term of the offset r from the body origin).
-    const Vec3 a_p = Vec3(acc[3], acc[4], acc[5]) + omega.cross(v_p) + Eigen::Map<const Vec3>(m->opt.gravity);
-    Vec6 j;
-    j << a_p, Vec3(acc[0], acc[1], acc[2]);
-    out.push_back(j);
-  }
-  mju_copy(d->qacc, saved_qacc.data(), m->nv);
+  const mjData* d = data.mj();
+  // MuJoCo 2.2.2 has no mj_jacDot. With q̈ = 0 the spatial acceleration of a body is the sum of
+  // cdof_dot·q̇ over the dofs that move it (the forward pass of mj_rne / mj_rnePostConstraint
+  // without gravity), in MuJoCo's com-based frame ([angular; linear] at the root's subtree COM).
+  Eigen::Matrix<double, 6, 1> cacc = Eigen::Matrix<double, 6, 1>::Zero();
+  for (int j = last_dof_moving(m, l.body); j >= 0; j = m->dof_parentid[j])
+    cacc += Eigen::Map<const Eigen::Matrix<double, 6, 1>>(d->cdof_dot + 6 * j) * d->qvel[j];
+  const Vec3 p_W = link_point(model, data, link, p_L);
+  const mjtNum* com = d->subtree_com + 3 * m->body_rootid[l.body];
+  mjtNum vel[6], acc[6];
+  // Spatial velocity and acceleration moved to the point.
+  mju_transformSpatial(vel, d->cvel + 6 * l.body, 0, p_W.data(), com, nullptr);
+  mju_transformSpatial(acc, cacc.data(), 0, p_W.data(), com, nullptr);
+  const Vec3 omega(vel[0], vel[1], vel[2]);
+  const Vec3 v_p(vel[3], vel[4], vel[5]);
+  // Classical acceleration of the body-fixed point = spatial acceleration + ω × v_p (this carries
+  // the ω × (ω × r) term of the offset r from the body origin).
+  Vec6 out;
+  out << Vec3(acc[3], acc[4], acc[5]) + omega.cross(v_p), Vec3(acc[0], acc[1], acc[2]);
   return out;
 }
 
-Vec6 link_jdot_v(const RobotModel& model, RobotData& data, int link, const Vec3& p_L) {
-  return links_jdot_v(model, data, {link}, {p_L}).front();
+std::vector<int> link_dof_chain(const RobotModel& model, int link) {
+  const Link& l = checked_link(model, link);
+  const mjModel* m = model.mj();
+  std::vector<int> dofs;
+  for (int j = last_dof_moving(m, l.body); j >= 0; j = m->dof_parentid[j]) dofs.push_back(j);
+  std::reverse(dofs.begin(), dofs.end());
+  return dofs;
+}
+
+void solve_mass_matrix(const RobotModel& model, const RobotData& data, Eigen::Ref<MatXr> X) {
+  const mjModel* m = model.mj();
+  const mjData* d = data.mj();
+  const int nv = m->nv;
+  RT_DEMAND(X.rows() == nv, "solve_mass_matrix: right-hand sides need nv rows");
+  // mj_factorM leaves M = Lᵀ D L in qLD: per dof i, D(i) at dof_Madr[i], then L(i, j) for the
+  // ancestors j of i, nearest first (L is unit lower triangular and zero elsewhere).
+  const mjtNum* LD = d->qLD;
+  const Eigen::Index n = X.cols(), ld = X.outerStride();
+  double* x = X.data();
+  // row_a -= l · row_b over the n right-hand sides: the inner loop the compiler vectorises.
+  const auto axpy = [n](double* __restrict a, const double* __restrict b, double l) {
+    for (Eigen::Index k = 0; k < n; ++k) a[k] -= l * b[k];
+  };
+  // X ← L⁻ᵀ X, leaves first.
+  for (int i = nv - 1; i >= 0; --i) {
+    int adr = m->dof_Madr[i] + 1;
+    for (int j = m->dof_parentid[i]; j >= 0; j = m->dof_parentid[j]) axpy(x + j * ld, x + i * ld, LD[adr++]);
+  }
+  // X ← D⁻¹ X, then X ← L⁻¹ X, root first.
+  for (int i = 0; i < nv; ++i) {
+    double* x_i = x + i * ld;
+    const double d_inv = d->qLDiagInv[i];
+    for (Eigen::Index k = 0; k < n; ++k) x_i[k] *= d_inv;
+    int adr = m->dof_Madr[i] + 1;
+    for (int j = m->dof_parentid[i]; j >= 0; j = m->dof_parentid[j]) axpy(x_i, x + j * ld, LD[adr++]);
+  }
 }
 
 VecX integrate(const RobotModel& model, const VecXCRef& q, const VecXCRef& v, double dt) {

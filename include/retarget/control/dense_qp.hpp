@@ -55,7 +55,7 @@ class DenseQp {
 
   Eigen::LLT<MatX> llt_;
   MatX H_inv_, N_, HiN_, M_;
-  VecX Hn_, z_, r_, rhs_, s_;
+  VecX Hn_, z_, r_, rhs_, s_, row_norm_;
   std::vector<int> active_;
   std::vector<double> u_;
   std::vector<char> in_active_;

@@ -101,7 +101,7 @@ struct TrackingProblem {
   MatX J_contact;                 ///< nf x nv: feet in contact
   MatX M;                         ///< nv x nv
   VecX bias;                      ///< c (nv)
-  MatX G;                         ///< M⁻¹ [S, J_contactᵀ]  (nv x (nu + nf)):  q̈ = G y + a0
+  MatXr G;                        ///< M⁻¹ [S, J_contactᵀ]  (nv x (nu + nf)):  q̈ = G y + a0
   VecX a0;                        ///< −M⁻¹ c
   std::vector<Vec3> r_contact_W;  ///< application points (sole centres) of the contact wrenches
   std::vector<Mat3> R_contact_W;  ///< frames of the contact limits: W's vertical, turned by each foot's heading
@@ -131,11 +131,12 @@ struct TrackingCommand {
 /// controller itself stays const and shareable between threads; reused across control cycles it
 /// avoids per-cycle heap allocation.
 struct TrackingWorkspace {
-  MatX SJ, Gs, H, WH, J_link, M_row;
-  VecX q_err, qdd_hat, rdd_hat, rdd_err, w_c, tmp_nv, tmp_12;
-  Eigen::LLT<MatX> llt_12, llt_tau;
+  MatX J_link, J_K;   ///< mj_jac output; foot Jacobians on the legs' dofs (12 x |K|)
+  MatXr E, G_K;       ///< stacked weighted Jacobians of Z_q and Z_c; rows of G on the legs' dofs
+  VecX q_err, qdd_hat, rdd_hat, w_c, e, x_K;
+  Eigen::LLT<MatX> llt_tau;
   MatX X, A_red;
-  VecX z_tau, b_red, f;
+  VecX z_tau, b_red;
   DenseQp qp;
 };
 
@@ -178,6 +179,7 @@ class TrackingController {
   TrackingOptions options_;
   VecX kp_, kd_;       ///< per generalised velocity (nv)
   VecX w_q_;           ///< diagonal of W_q (nv)
+  std::vector<int> feet_dofs_;  ///< dofs that move either foot (link_dof_chain), ascending
   double friction_ = 1.0;  ///< μ of the contact limits
 };
 

@@ -24,6 +24,12 @@ void update_kinematics(const RobotModel& model, RobotData& data, const VecXCRef&
 /// contacts in data.mj() are not updated.
 void update_dynamics(const RobotModel& model, RobotData& data, const VecXCRef& q, const VecXCRef& v);
 
+/// The same results as update_dynamics, copied from another mjData of this model on which MuJoCo's
+/// position and velocity stages already ran for the state it holds (mj_forward, or mj_step1 at the
+/// start of a simulation step): a copy instead of a second evaluation of the same functions on the
+/// same inputs. The dynamics check uses it to give the controller's own data the measured state.
+void assign_dynamics(const RobotModel& model, RobotData& data, const mjData& source);
+
 /// Pose of a link in the world.
 Iso3 link_pose(const RobotModel& model, const RobotData& data, int link);
 
@@ -47,15 +53,20 @@ MatX mass_matrix(const RobotModel& model, const RobotData& data);
 VecX bias_forces(const RobotModel& model, const RobotData& data);
 
 /// J̇·v of a link point (6: [linear; angular], W), exact (after update_dynamics): the classical
-/// acceleration of the point and the angular acceleration of the link when q̈ = 0 (MuJoCo's
-/// mj_rnePostConstraint with zero qacc, dependencies.md §5). Overwrites data.mj()'s cacc,
-/// cfrc_int and cfrc_ext (qacc is restored); hence the non-const data.
-Vec6 link_jdot_v(const RobotModel& model, RobotData& data, int link, const Vec3& p_L = Vec3::Zero());
+/// acceleration of the point and the angular acceleration of the link when q̈ = 0, from MuJoCo's
+/// cdof_dot (what mj_rnePostConstraint does with zero qacc, dependencies.md §5, without touching
+/// data).
+Vec6 link_jdot_v(const RobotModel& model, const RobotData& data, int link, const Vec3& p_L = Vec3::Zero());
 
-/// J̇·v of several link points with one MuJoCo acceleration pass (cheaper than calling
-/// link_jdot_v per link).
-std::vector<Vec6> links_jdot_v(const RobotModel& model, RobotData& data, const std::vector<int>& links,
-                               const std::vector<Vec3>& p_L);
+/// The generalised velocities (indices into v, ascending) that move `link`: its body's dofs and its
+/// ancestors'. All other columns of the link's Jacobians are structurally zero.
+std::vector<int> link_dof_chain(const RobotModel& model, int link);
+
+/// Solves M(q) X = B in place for the right-hand sides in the columns of X (nv rows, row-major),
+/// with the sparse L'DL factor of M that update_dynamics leaves in data (the same result as
+/// mj_solveM column by column). Each step of the tree-sparse substitution updates a whole row, which
+/// vectorises: for tens of right-hand sides several times faster than mj_solveM.
+void solve_mass_matrix(const RobotModel& model, const RobotData& data, Eigen::Ref<MatXr> X);
 
 /// Integrates q by v·dt on the configuration manifold (quaternion-aware, mj_integratePos): the
 /// root moves by v_W·dt and turns by ω·dt about its own axes.

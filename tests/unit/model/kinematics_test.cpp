@@ -5,6 +5,7 @@
 #include <mujoco/mujoco.h>
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <random>
 
 #include "retarget/model/kinematics.hpp"
@@ -101,6 +102,95 @@ void check_jdot_v(const RobotModel& r, int seed) {
   }
 }
 
+// J̇·v against MuJoCo's own acceleration pass (mj_rnePostConstraint with q̈ = 0, at the body
+// origin), and the dof chains against the sparsity of MuJoCo's Jacobians.
+void check_jdot_v_and_chains(const RobotModel& r, int seed) {
+  std::mt19937 rng(static_cast<unsigned>(seed));
+  RobotData data(r);
+  VecX q, v;
+  random_state(r, rng, q, v);
+  update_dynamics(r, data, q, v);
+  RobotData reference(r);
+  update_dynamics(r, reference, q, v);
+  mjData* d = reference.mj();
+  mju_zero(d->qacc, r.nv());
+  mj_rnePostConstraint(r.mj(), d);
+  for (int link = 0; link < static_cast<int>(r.links().size()); ++link) {
+    SCOPED_TRACE(r.links()[static_cast<std::size_t>(link)].name);
+    const Link& l = r.links()[static_cast<std::size_t>(link)];
+    if (l.body == 0) continue;  // a link welded to the world (a URDF "world" link) does not move
+    mjtNum acc[6];
+    mj_objectAcceleration(r.mj(), d, mjOBJ_BODY, l.body, acc, 0);
+    // MuJoCo reports a body's acceleration at its centre of mass: the same point in link coordinates.
+    const Vec3 p_L = link_pose(r, data, link).inverse() * Eigen::Map<const Vec3>(d->xipos + 3 * l.body);
+    const Vec6 a = link_jdot_v(r, data, link, p_L);
+    const Vec3 lin = Vec3(acc[3], acc[4], acc[5]) + Eigen::Map<const Vec3>(r.mj()->opt.gravity);
+    EXPECT_LT((a.head<3>() - lin).norm(), 1e-9 * (1 + lin.norm()));
+    EXPECT_LT((a.tail<3>() - Vec3(acc[0], acc[1], acc[2])).norm(), 1e-9 * (1 + a.tail<3>().norm()));
+
+    const MatX J = link_jacobian(r, data, link);
+    const std::vector<int> chain = link_dof_chain(r, link);
+    EXPECT_TRUE(std::is_sorted(chain.begin(), chain.end()));
+    std::vector<bool> in_chain(static_cast<std::size_t>(r.nv()), false);
+    for (int j : chain) in_chain[static_cast<std::size_t>(j)] = true;
+    for (int j = 0; j < r.nv(); ++j) {
+      if (!in_chain[static_cast<std::size_t>(j)]) {
+        EXPECT_EQ(J.col(j).norm(), 0.0) << "dof " << j;
+      }
+    }
+    // The root's six dofs move every link of a floating robot.
+    EXPECT_GE(chain.size(), 6u);
+  }
+}
+
+// The row-wise sparse solve against MuJoCo's mj_solveM and the dense mass matrix.
+void check_solve_mass_matrix(const RobotModel& r, int seed) {
+  std::mt19937 rng(static_cast<unsigned>(seed));
+  RobotData data(r);
+  VecX q, v;
+  random_state(r, rng, q, v);
+  update_dynamics(r, data, q, v);
+  const int nv = r.nv(), n = 41;
+  std::normal_distribution<double> g(0, 1);
+  MatX B(nv, n);
+  for (int i = 0; i < B.size(); ++i) B.data()[i] = g(rng);
+  MatXr X = B;
+  solve_mass_matrix(r, data, X);
+  MatX expected(nv, n);  // column-major: one right-hand side per column for mj_solveM
+  mj_solveM(r.mj(), data.mj(), expected.data(), B.data(), n);
+  EXPECT_LT((X - expected).norm(), 1e-12 * (1 + expected.norm()));
+  EXPECT_LT((mass_matrix(r, data) * X - B).norm(), 1e-9 * (1 + B.norm()));
+}
+
+// assign_dynamics from MuJoCo's own step stages gives the controller exactly what update_dynamics
+// computes: every query answers bit for bit the same.
+void check_assign_dynamics(const RobotModel& r, int seed) {
+  std::mt19937 rng(static_cast<unsigned>(seed));
+  VecX q, v;
+  random_state(r, rng, q, v);
+  RobotData sim(r), assigned(r), updated(r);
+  mju_copy(sim.mj()->qpos, q.data(), r.nq());
+  mju_copy(sim.mj()->qvel, v.data(), r.nv());
+  mj_step1(r.mj(), sim.mj());
+  assign_dynamics(r, assigned, *sim.mj());
+  update_dynamics(r, updated, q, v);
+  EXPECT_EQ(mass_matrix(r, assigned), mass_matrix(r, updated));
+  EXPECT_EQ(bias_forces(r, assigned), bias_forces(r, updated));
+  EXPECT_EQ(com_position(r, assigned), com_position(r, updated));
+  EXPECT_EQ(com_jacobian(r, assigned), com_jacobian(r, updated));
+  for (int link = 0; link < static_cast<int>(r.links().size()); ++link) {
+    SCOPED_TRACE(r.links()[static_cast<std::size_t>(link)].name);
+    EXPECT_EQ(link_pose(r, assigned, link).matrix(), link_pose(r, updated, link).matrix());
+    EXPECT_EQ(link_jacobian(r, assigned, link), link_jacobian(r, updated, link));
+    EXPECT_EQ(link_jdot_v(r, assigned, link), link_jdot_v(r, updated, link));
+  }
+  for (int foot = 0; foot < 2; ++foot) EXPECT_EQ(lowest_sole_corner_z(r, assigned, foot), lowest_sole_corner_z(r, updated, foot));
+  MatXr X1 = MatXr::Identity(r.nv(), r.nv()), X2 = X1;
+  solve_mass_matrix(r, assigned, X1);
+  solve_mass_matrix(r, updated, X2);
+  EXPECT_EQ(X1, X2);
+}
+
 void check_dynamics(const RobotModel& r, int seed) {
   std::mt19937 rng(static_cast<unsigned>(seed));
   VecX q, v;
@@ -160,6 +250,20 @@ TEST(Kinematics, JdotVMatchesFiniteDifferencesOnTheTestRobot) {
   for (int seed = 1; seed <= 3; ++seed) check_jdot_v(mini(), seed);
 }
 
+TEST(Kinematics, JdotVAndDofChainsMatchMujocoOnTheTestRobot) {
+  for (int seed = 1; seed <= 3; ++seed) check_jdot_v_and_chains(mini(), seed);
+}
+
+TEST(Kinematics, SparseMassMatrixSolveMatchesMujoco) {
+  for (int seed = 1; seed <= 3; ++seed) check_solve_mass_matrix(mini(), seed);
+  check_solve_mass_matrix(test::cached_robot("humanoid25"), 4);
+}
+
+TEST(Kinematics, AssignDynamicsFromMujocoStepStagesEqualsUpdateDynamics) {
+  for (int seed = 1; seed <= 3; ++seed) check_assign_dynamics(mini(), seed);
+  check_assign_dynamics(test::cached_robot("humanoid25"), 4);
+}
+
 TEST(Kinematics, MassMatrixAndBiasSatisfyTheEquationsOfMotion) {
   for (int seed = 1; seed <= 3; ++seed) check_dynamics(mini(), seed);
 }
@@ -194,6 +298,9 @@ TEST(Kinematics, RealRobotsMatchFiniteDifferences) {
     const RobotModel* r = &test::cached_robot(name);
     check_jacobians(*r, 11);
     check_jdot_v(*r, 12);
+    check_jdot_v_and_chains(*r, 15);
+    check_solve_mass_matrix(*r, 16);
+    check_assign_dynamics(*r, 17);
     check_dynamics(*r, 13);
     check_integrate_difference(*r, 14);
   }
