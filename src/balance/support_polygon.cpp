@@ -46,7 +46,20 @@ SupportPolygon SupportPolygon::convex_hull(std::vector<Vec2> pts) {
   }
   hull.resize(k - 1);
   poly.vertices_ = std::move(hull);
+  const std::size_t n = poly.vertices_.size();
+  poly.edge_length_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) poly.edge_length_[i] = (poly.vertices_[(i + 1) % n] - poly.vertices_[i]).norm();
   return poly;
+}
+
+bool SupportPolygon::contains(const Vec2& p, double margin_m) const {
+  const std::size_t n = vertices_.size();
+  if (n < 3 || margin_m < 0) return signed_distance(p) <= -margin_m;
+  // Inside a convex polygon the distance to the boundary is the least distance to an edge's line:
+  // p qualifies when it lies at least margin_m to the left of every (counter-clockwise) edge.
+  for (std::size_t i = 0; i < n; ++i)
+    if (cross(vertices_[i], vertices_[(i + 1) % n], p) < margin_m * edge_length_[i]) return false;
+  return true;
 }
 
 double SupportPolygon::area() const {

@@ -4,9 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <map>
 #include <optional>
-#include <unordered_map>
 
 #include "retarget/balance/support_polygon.hpp"
 #include "retarget/core/error.hpp"
@@ -49,6 +47,34 @@ int joint_group(const std::string& name) {
     if (n.find(arm) != std::string::npos) return 2;
   return 1;
 }
+
+// Values memoised per integer key in [0, size): lookups are an index, and clear() is O(1) (each
+// slot carries the generation that filled it).
+template <class T>
+class Memo {
+ public:
+  explicit Memo(std::size_t size) : slots_(size) {}
+  std::size_t size() const { return slots_.size(); }
+  void clear() { ++generation_; }
+  /// The value for `key`, computed by make() on the first request since the last clear().
+  template <class Make>
+  const T& get(std::size_t key, const Make& make) {
+    Slot& s = slots_[key];
+    if (s.generation != generation_) {
+      s.value = make();
+      s.generation = generation_;
+    }
+    return s.value;
+  }
+
+ private:
+  struct Slot {
+    T value{};
+    unsigned long generation = 0;
+  };
+  std::vector<Slot> slots_;
+  unsigned long generation_ = 1;
+};
 
 std::vector<int> tracking_contact_feet(const std::array<bool, 2>& contact) {
   std::vector<int> feet;
@@ -163,15 +189,17 @@ DynamicsCheckResult run_dynamics_check(const RobotModel& model, const Reference&
     if (!o.balance_feedforward) return BalanceReference::at_rest(original_com(t_sim));
     return BalanceReference::from_com_motion(signal.com_motion_at(t_sim - o.settle_s, map), omega_sq);
   };
-  // The reference COP over the planner's window, memoised on a 1 µs grid: consecutive planning
-  // steps ask for nearly the same future times, and it only changes when the trunk map does.
-  std::unordered_map<long long, Vec2> cop_ref_memo;
+  // The reference COP over the planner's window, memoised per simulation step: consecutive planning
+  // steps ask for mostly the same future times (on the simulation grid when the planner's period is
+  // a multiple of the step), and it only changes when the trunk map does.
+  const double plan_steps = dt_plan / dt_sim;
+  const bool on_sim_grid = std::abs(plan_steps - std::round(plan_steps)) < 1e-9;
+  Memo<Vec2> cop_ref_memo(on_sim_grid ? static_cast<std::size_t>(std::ceil((total_s + (N + 2) * dt_plan) / dt_sim)) + 2 : 0);
   auto reference_cop = [&](double t_sim) -> Vec2 {
-    const long long key = std::llround(t_sim * 1e6);
-    const auto it = cop_ref_memo.find(key);
-    if (it != cop_ref_memo.end()) return it->second;
-    if (cop_ref_memo.size() > 100000) cop_ref_memo.clear();  // bounded: about 4 min of clip
-    return cop_ref_memo.emplace(key, balance_reference(t_sim).cop()).first->second;
+    const auto make = [&] { return balance_reference(t_sim).cop(); };
+    const long long key = std::llround(t_sim / dt_sim);
+    if (key < 0 || key >= static_cast<long long>(cop_ref_memo.size())) return make();
+    return cop_ref_memo.get(static_cast<std::size_t>(key), make);
   };
   auto delta_at = [&](double t_sim) -> Vec2 {
     const double s = std::clamp(t_sim / dt_plan, 0.0, static_cast<double>(K - 1));
@@ -207,7 +235,7 @@ DynamicsCheckResult run_dynamics_check(const RobotModel& model, const Reference&
   double next_record = 0, next_plan = 0;
   // Support per reference frame for the planner. It depends on the trunk map, which feet are loaded
   // and held, and the current reference frame; kept across planner ticks while none of them changes.
-  std::map<int, SupportFrame> support_cache;
+  Memo<SupportFrame> support_cache(static_cast<std::size_t>(signal.num_frames()));
   std::array<int, 7> support_inputs{};
   int stance_pose_changes = 0;
   Eigen::Matrix2Xd y_offset(2, N);            // reference COP over the planner's window
@@ -223,7 +251,10 @@ DynamicsCheckResult run_dynamics_check(const RobotModel& model, const Reference&
     const double t_ref = clip_time(t_sim);
     const VecX q = plant.q(), v = plant.v();
     const ContactState contacts = plant.contacts();
-    update_dynamics(model, ctrl_data, q, v);
+    // The controller's own data for the measured state: MuJoCo's position and velocity stages of
+    // the step about to be taken compute exactly what update_dynamics(q, v) would.
+    plant.begin_step();
+    assign_dynamics(model, ctrl_data, *plant.mj());
     const Vec3 com = com_position(model, ctrl_data);
 
     // --- falls --------------------------------------------------------------------------------
@@ -319,11 +350,8 @@ DynamicsCheckResult run_dynamics_check(const RobotModel& model, const Reference&
         support_cache.clear();
         support_inputs = inputs;
       }
-      const auto support = [&](int j) -> const SupportFrame& {
-        const double tj = clip_time(t_sim + j * dt_plan);
-        const int frame = std::clamp(static_cast<int>(std::lround(tj * signal.fps())), 0, signal.num_frames() - 1);
-        auto it = support_cache.find(frame);
-        if (it != support_cache.end()) return it->second;
+      // The support polygon of a reference frame, as the planner sees it now.
+      const auto make_support = [&](int frame) {
         SupportFrame s;
         std::vector<Vec2> corners;
         for (int f = 0; f < 2; ++f) {
@@ -347,7 +375,12 @@ DynamicsCheckResult run_dynamics_check(const RobotModel& model, const Reference&
             for (const Vec3& c : sole_corners(X, sole)) corners.push_back(c.head<2>());
         }
         s.polygon = SupportPolygon::convex_hull(std::move(corners));
-        return support_cache.emplace(frame, std::move(s)).first->second;
+        return s;
+      };
+      const auto support = [&](int j) -> const SupportFrame& {
+        const double tj = clip_time(t_sim + j * dt_plan);
+        const int frame = std::clamp(static_cast<int>(std::lround(tj * signal.fps())), 0, signal.num_frames() - 1);
+        return support_cache.get(static_cast<std::size_t>(frame), [&] { return make_support(frame); });
       };
       const Eigen::Matrix2Xd before = U;
       const auto event = planner.step(x0, U, support, o.balance_feedforward ? &y_offset : nullptr);

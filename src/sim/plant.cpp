@@ -21,14 +21,26 @@ void Plant::reset(const VecX& q, const VecX& v) {
   mju_zero(d_->ctrl, m->nu);
   mj_forward(m, d_);
   unstable_ = false;
+  step_begun_ = false;
+}
+
+void Plant::begin_step() {
+  RT_DEMAND(!step_begun_, "Plant::begin_step: the step has begun already");
+  mj_step1(model_->mj(), d_);
+  step_begun_ = true;
 }
 
 void Plant::step(const VecX& tau, int steps) {
   const mjModel* m = model_->mj();
-  RT_DEMAND(tau.size() == m->nu, "Plant::step: torque size");
+  RT_DEMAND(tau.size() == m->nu && steps >= 1, "Plant::step: torque size or step count");
   mju_copy(d_->ctrl, tau.data(), m->nu);
   for (int i = 0; i < steps; ++i) {
-    mj_step(m, d_);
+    // For the Euler integrator mj_step1 + mj_step2 is mj_step.
+    if (step_begun_)
+      mj_step2(m, d_);
+    else
+      mj_step(m, d_);
+    step_begun_ = false;
     if (d_->warning[mjWARN_BADQACC].number > 0) unstable_ = true;
   }
 }
@@ -38,6 +50,7 @@ VecX Plant::v() const { return Eigen::Map<const VecX>(d_->qvel, model_->mj()->nv
 double Plant::time_s() const { return d_->time; }
 
 ContactState Plant::contacts() const {
+  RT_DEMAND(!step_begun_, "Plant::contacts: read during a begun step");
   const mjModel* m = model_->mj();
   ContactState s;
   Vec3 moment_sum = Vec3::Zero();

@@ -25,7 +25,8 @@ class SupportPolygon {
 
   /// Signed distance [m] from the boundary: negative inside, positive outside. +inf when empty.
   double signed_distance(const Vec2& p) const;
-  bool contains(const Vec2& p, double margin_m = 0.0) const { return signed_distance(p) <= -margin_m; }
+  /// Whether p lies inside, at least margin_m from the boundary (signed_distance(p) ≤ −margin_m).
+  bool contains(const Vec2& p, double margin_m = 0.0) const;
   /// Closest point on the boundary.
   Vec2 closest_boundary_point(const Vec2& p) const;
   /// Where the segment from `inside` to `outside` leaves the polygon (paper Fig. 6: the border
@@ -35,6 +36,7 @@ class SupportPolygon {
 
  private:
   std::vector<Vec2> vertices_;
+  std::vector<double> edge_length_;  ///< |v[i+1] − v[i]| (hulls of 3 or more vertices)
 };
 
 }  // namespace rt

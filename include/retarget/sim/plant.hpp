@@ -36,8 +36,13 @@ class Plant {
 
   /// Sets the state (q: nq, v: nv), zero controls, and computes contacts for it.
   void reset(const VecX& q, const VecX& v);
+  /// Runs MuJoCo's position and velocity stages of the next step for the current state
+  /// (mj_step1): afterwards mj() holds its kinematics, mass matrix and bias forces (for
+  /// assign_dynamics), while the contact list is that of the next step and contacts() must not be
+  /// read until step() completes it.
+  void begin_step();
   /// Applies `tau` (nu, model order; clamped by the motors' force ranges) for `steps` simulation
-  /// steps of the model's timestep.
+  /// steps of the model's timestep, completing a begun step first.
   void step(const VecX& tau, int steps);
 
   VecX q() const;
@@ -55,6 +60,7 @@ class Plant {
   const RobotModel* model_;
   mjData* d_;
   bool unstable_ = false;
+  bool step_begun_ = false;
 };
 
 }  // namespace rt

@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <random>
+
 namespace rt {
 namespace {
 
@@ -25,6 +28,24 @@ TEST(SupportPolygon, HullOfTwoFeet) {
   EXPECT_TRUE(poly.contains(Vec2(0.05, 0.1)));
   EXPECT_FALSE(poly.contains(Vec2(0.05, 0.1), 0.06));
   EXPECT_TRUE(poly.closest_boundary_point(Vec2(0.0, 0.3)).isApprox(Vec2(0.0, 0.15)));
+}
+
+// contains() tests edge half-planes; it must agree with the signed distance it stands for.
+TEST(SupportPolygon, ContainsAgreesWithTheSignedDistance) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-0.3, 0.3), margin(0.0, 0.08);
+  for (int trial = 0; trial < 50; ++trial) {
+    std::vector<Vec2> pts;
+    for (int k = 0; k < 8; ++k) pts.emplace_back(u(rng), u(rng));
+    const auto poly = SupportPolygon::convex_hull(pts);
+    for (int k = 0; k < 200; ++k) {
+      const Vec2 p(u(rng), u(rng));
+      const double m = k % 4 == 0 ? 0.0 : margin(rng);
+      const double sd = poly.signed_distance(p);
+      if (std::abs(sd + m) < 1e-12) continue;  // on the boundary of the test: either answer
+      EXPECT_EQ(poly.contains(p, m), sd <= -m) << "trial " << trial << " point " << p.transpose() << " margin " << m;
+    }
+  }
 }
 
 TEST(SupportPolygon, CounterClockwiseAndCollinearPointsDropped) {
