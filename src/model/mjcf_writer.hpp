@@ -61,8 +61,10 @@ struct MjcfModel {
   std::vector<MjcfBody> bodies;       ///< [0] is the root body; parents precede children
   std::vector<std::string> mesh_assets;  ///< asset name i reads VFS file "<name>.stl"
   std::vector<MjcfMotor> motors;
-  int robot_contype = 2, robot_conaffinity = 1;  ///< robot geoms never collide with each other
-  int floor_contype = 1, floor_conaffinity = 2;  ///< ... but always with the floor
+  /// Robot geoms never collide with each other but always with the floor. MuJoCo runs on the
+  /// predefined floor pairs the writer emits; the bits say the same for tools that read the MJCF.
+  int robot_contype = 2, robot_conaffinity = 1;
+  int floor_contype = 1, floor_conaffinity = 2;
 };
 
 /// MJCF text of the model (bodies emitted depth-first in `children` order, which is the body and

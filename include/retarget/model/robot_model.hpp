@@ -13,8 +13,9 @@
 /// root body, hinge/slide joints with the URDF ranges, armature, damping and frictionloss, a floor
 /// plane, one torque motor per movable joint (actuator i drives movable_joints()[i], ctrl and force
 /// clamped to the URDF effort), a sole box per foot, and the other links' collision geometry.
-/// Only robot-vs-floor contacts exist (contype/conaffinity bits); every robot geom collides with
-/// the floor, so a non-sole contact means a fall. Visual geometry is not part of the model.
+/// Only robot-vs-floor contacts exist: MuJoCo tests predefined floor-geom pairs only (the
+/// contype/conaffinity bits say the same); every robot geom collides with the floor, so a non-sole
+/// contact means a fall. Visual geometry is not part of the model.
 
 #include <memory>
 #include <string>

@@ -226,8 +226,20 @@ TEST(RobotModel, SolesGeomsAndCollisionFiltering) {
       if (h != f) {
         EXPECT_FALSE((m->geom_contype[g] & m->geom_conaffinity[h]) || (m->geom_contype[h] & m->geom_conaffinity[g]));
       }
+    // ... and MuJoCo tests exactly the floor pairs, with the geoms' own friction and condim.
+    int pairs = 0;
+    for (int p = 0; p < m->npair; ++p) {
+      if (!((m->pair_geom1[p] == f && m->pair_geom2[p] == g) || (m->pair_geom1[p] == g && m->pair_geom2[p] == f))) continue;
+      ++pairs;
+      EXPECT_EQ(m->pair_dim[p], m->geom_condim[g]);
+      EXPECT_EQ(m->pair_friction[5 * p], m->geom_friction[3 * g]);
+      EXPECT_EQ(m->pair_friction[5 * p + 1], m->geom_friction[3 * g]);
+    }
+    EXPECT_EQ(pairs, 1);
   }
   EXPECT_EQ(robot_geoms, 12);
+  EXPECT_EQ(m->npair, robot_geoms);
+  EXPECT_EQ(m->opt.collision, mjCOL_PAIR);
 }
 
 TEST(RobotModel, StandingPoseTouchesTheFloor) {
