@@ -102,8 +102,8 @@ void check_jdot_v(const RobotModel& r, int seed) {
   }
 }
 
-// J̇·v against MuJoCo's own acceleration pass (mj_rnePostConstraint with q̈ = 0, at the body
-// origin), and the dof chains against the sparsity of MuJoCo's Jacobians.
+// J̇·v against MuJoCo's own acceleration pass (mj_rnePostConstraint with q̈ = 0, at each body's
+// centre of mass), and the dof chains against the sparsity of MuJoCo's Jacobians.
 void check_jdot_v_and_chains(const RobotModel& r, int seed) {
   std::mt19937 rng(static_cast<unsigned>(seed));
   RobotData data(r);
