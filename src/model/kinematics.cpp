@@ -67,31 +67,30 @@ void assign_dynamics(const RobotModel& model, RobotData& data, const mjData& sou
   mjData* d = data.mj();
   // What update_dynamics writes: its inputs, then the results of mj_kinematics, mj_comPos, mj_crb,
   // mj_factorM, mj_comVel and mj_rne.
-  const auto copy = [](mjtNum* to, const mjtNum* from, int n) { mju_copy(to, from, n); };
-  copy(d->qpos, source.qpos, m->nq);
-  copy(d->qvel, source.qvel, m->nv);
-  copy(d->xpos, source.xpos, 3 * m->nbody);
-  copy(d->xquat, source.xquat, 4 * m->nbody);
-  copy(d->xmat, source.xmat, 9 * m->nbody);
-  copy(d->xipos, source.xipos, 3 * m->nbody);
-  copy(d->ximat, source.ximat, 9 * m->nbody);
-  copy(d->xanchor, source.xanchor, 3 * m->njnt);
-  copy(d->xaxis, source.xaxis, 3 * m->njnt);
-  copy(d->geom_xpos, source.geom_xpos, 3 * m->ngeom);
-  copy(d->geom_xmat, source.geom_xmat, 9 * m->ngeom);
-  copy(d->site_xpos, source.site_xpos, 3 * m->nsite);
-  copy(d->site_xmat, source.site_xmat, 9 * m->nsite);
-  copy(d->subtree_com, source.subtree_com, 3 * m->nbody);
-  copy(d->cinert, source.cinert, 10 * m->nbody);
-  copy(d->cdof, source.cdof, 6 * m->nv);
-  copy(d->crb, source.crb, 10 * m->nbody);
-  copy(d->qM, source.qM, m->nM);
-  copy(d->qLD, source.qLD, m->nM);
-  copy(d->qLDiagInv, source.qLDiagInv, m->nv);
-  copy(d->qLDiagSqrtInv, source.qLDiagSqrtInv, m->nv);
-  copy(d->cvel, source.cvel, 6 * m->nbody);
-  copy(d->cdof_dot, source.cdof_dot, 6 * m->nv);
-  copy(d->qfrc_bias, source.qfrc_bias, m->nv);
+  mju_copy(d->qpos, source.qpos, m->nq);
+  mju_copy(d->qvel, source.qvel, m->nv);
+  mju_copy(d->xpos, source.xpos, 3 * m->nbody);
+  mju_copy(d->xquat, source.xquat, 4 * m->nbody);
+  mju_copy(d->xmat, source.xmat, 9 * m->nbody);
+  mju_copy(d->xipos, source.xipos, 3 * m->nbody);
+  mju_copy(d->ximat, source.ximat, 9 * m->nbody);
+  mju_copy(d->xanchor, source.xanchor, 3 * m->njnt);
+  mju_copy(d->xaxis, source.xaxis, 3 * m->njnt);
+  mju_copy(d->geom_xpos, source.geom_xpos, 3 * m->ngeom);
+  mju_copy(d->geom_xmat, source.geom_xmat, 9 * m->ngeom);
+  mju_copy(d->site_xpos, source.site_xpos, 3 * m->nsite);
+  mju_copy(d->site_xmat, source.site_xmat, 9 * m->nsite);
+  mju_copy(d->subtree_com, source.subtree_com, 3 * m->nbody);
+  mju_copy(d->cinert, source.cinert, 10 * m->nbody);
+  mju_copy(d->cdof, source.cdof, 6 * m->nv);
+  mju_copy(d->crb, source.crb, 10 * m->nbody);
+  mju_copy(d->qM, source.qM, m->nM);
+  mju_copy(d->qLD, source.qLD, m->nM);
+  mju_copy(d->qLDiagInv, source.qLDiagInv, m->nv);
+  mju_copy(d->qLDiagSqrtInv, source.qLDiagSqrtInv, m->nv);
+  mju_copy(d->cvel, source.cvel, 6 * m->nbody);
+  mju_copy(d->cdof_dot, source.cdof_dot, 6 * m->nv);
+  mju_copy(d->qfrc_bias, source.qfrc_bias, m->nv);
 }
 
 Iso3 link_pose(const RobotModel& model, const RobotData& data, int link) {
@@ -143,9 +142,9 @@ Vec6 link_jdot_v(const RobotModel& model, const RobotData& data, int link, const
   // MuJoCo 2.2.2 has no mj_jacDot. With q̈ = 0 the spatial acceleration of a body is the sum of
   // cdof_dot·q̇ over the dofs that move it (the forward pass of mj_rne / mj_rnePostConstraint
   // without gravity), in MuJoCo's com-based frame ([angular; linear] at the root's subtree COM).
-  Eigen::Matrix<double, 6, 1> cacc = Eigen::Matrix<double, 6, 1>::Zero();
+  Vec6 cacc = Vec6::Zero();
   for (int j = last_dof_moving(m, l.body); j >= 0; j = m->dof_parentid[j])
-    cacc += Eigen::Map<const Eigen::Matrix<double, 6, 1>>(d->cdof_dot + 6 * j) * d->qvel[j];
+    cacc += Eigen::Map<const Vec6>(d->cdof_dot + 6 * j) * d->qvel[j];
   const Vec3 p_W = link_point(model, data, link, p_L);
   const mjtNum* com = d->subtree_com + 3 * m->body_rootid[l.body];
   mjtNum vel[6], acc[6];
