@@ -186,13 +186,10 @@ void TrackingController::build(RobotData& data, const VecXCRef& q, const VecXCRe
   }
   // The foot Jacobians are zero outside the dofs of the legs' chains (feet_dofs_): products with
   // them run over those columns only.
-  const auto nk = static_cast<Eigen::Index>(feet_dofs_.size());
-  ws.J_K.resize(12, nk);
-  for (Eigen::Index k = 0; k < nk; ++k) ws.J_K.col(k) = p.J_feet.col(feet_dofs_[static_cast<std::size_t>(k)]);
+  ws.J_K = p.J_feet(Eigen::all, feet_dofs_);
 
   // Eq. (5): q̈̂' = q̈̂ + J_c⁺ (r̈̂ − J_c q̈̂ − J̇_c q̇), J_c⁺ = J_cᵀ (J_c J_cᵀ + λI)⁻¹.
-  ws.x_K.resize(nk);
-  for (Eigen::Index k = 0; k < nk; ++k) ws.x_K[k] = ws.qdd_hat[feet_dofs_[static_cast<std::size_t>(k)]];
+  ws.x_K = ws.qdd_hat(feet_dofs_);
   Eigen::Matrix<double, 12, 12> JJt;
   JJt.noalias() = ws.J_K * ws.J_K.transpose();
   JJt.diagonal().array() += options_.pinv_damping;
@@ -202,7 +199,7 @@ void TrackingController::build(RobotData& data, const VecXCRef& q, const VecXCRe
   e12 = llt12.solve(e12);
   ws.x_K.noalias() = ws.J_K.transpose() * e12;
   p.qdd_desired = ws.qdd_hat;
-  for (Eigen::Index k = 0; k < nk; ++k) p.qdd_desired[feet_dofs_[static_cast<std::size_t>(k)]] += ws.x_K[k];
+  p.qdd_desired(feet_dofs_) += ws.x_K;
 
   // Equation of motion: q̈ = M⁻¹ (S τ + J_fᵀ f − c) = G y + a0.
   const int nc = static_cast<int>(p.contact_feet.size());
@@ -241,12 +238,8 @@ void TrackingController::build(RobotData& data, const VecXCRef& q, const VecXCRe
   ws.e.resize(nv + 12);
   ws.E.topRows(nv).noalias() = w_q_.cwiseSqrt().asDiagonal() * p.G;
   ws.e.head(nv) = w_q_.cwiseSqrt().cwiseProduct(p.qdd_desired - p.a0);
-  ws.G_K.resize(nk, ny);
-  for (Eigen::Index k = 0; k < nk; ++k) {
-    const int j = feet_dofs_[static_cast<std::size_t>(k)];
-    ws.G_K.row(k) = p.G.row(j);
-    ws.x_K[k] = p.a0[j];
-  }
+  ws.G_K = p.G(feet_dofs_, Eigen::all);
+  ws.x_K = p.a0(feet_dofs_);
   ws.E.bottomRows(12).noalias() = ws.J_K * ws.G_K;
   ws.E.bottomRows(12) = ws.w_c.cwiseSqrt().asDiagonal() * ws.E.bottomRows(12);
   e12 = ws.rdd_hat - p.Jdot_v_feet;
