@@ -124,6 +124,7 @@ class RobotModelBuilder {
   void merge_inertias();
   void resolve_soles();
   void add_geometry();
+  void build_collision_hulls();
   void resolve_joint_settings();
   void compute_standing_height();
   void compile();
@@ -494,6 +495,50 @@ void RobotModelBuilder::add_geometry() {
   }
 }
 
+void RobotModelBuilder::build_collision_hulls() {
+  for (std::size_t li = 0; li < m_->links_.size(); ++li) {
+    const Link& link = m_->links_[li];
+    // A foot's sole rectangle is collision geometry too (the simulation's sole box).
+    for (const Sole& sole : m_->soles_)
+      if (sole.link == static_cast<int>(li)) {
+        const auto corners = sole.corners_L();
+        m_->collision_hulls_.push_back(make_hull(static_cast<int>(li), std::vector<Vec3>(corners.begin(), corners.end())));
+      }
+    for (const Geometry& g : link.collisions) {
+      const Mat3 R = g.X_L_G.linear();
+      const Vec3 c = g.X_L_G.translation();
+      std::vector<Vec3> points;
+      switch (g.kind) {
+        case Geometry::Kind::Box:
+          for (int k = 0; k < 8; ++k)
+            points.push_back(g.X_L_G * (0.5 * g.box_size_m.cwiseProduct(Vec3(k & 1 ? 1 : -1, k & 2 ? 1 : -1, k & 4 ? 1 : -1))));
+          break;
+        case Geometry::Kind::Sphere:
+          m_->collision_hulls_.push_back(make_hull(static_cast<int>(li), {c}, g.radius_m));
+          continue;
+        case Geometry::Kind::Cylinder:
+          for (int k = 0; k < 32; ++k) {
+            const double a = 2 * M_PI * k / 32;
+            for (const double z : {-0.5 * g.length_m, 0.5 * g.length_m})
+              points.push_back(c + R * Vec3(g.radius_m * std::cos(a), g.radius_m * std::sin(a), z));
+          }
+          break;
+        case Geometry::Kind::Mesh: {
+          const TriangleMesh& tm = mesh(g.mesh_path, g.mesh_scale, urdf_.link_location(static_cast<int>(li)));
+          points.reserve(tm.vertices.size());
+          for (const Vec3& v : tm.vertices) points.push_back(g.X_L_G * v);
+          points = convex_hull_vertices(points);
+          // A finely tessellated curved part has thousands of hull vertices; its support points
+          // are within r (1 − cos 4.5°) of them and keep the floor terms cheap.
+          if (points.size() > kMaxHullPoints) points = support_points(points);
+          break;
+        }
+      }
+      m_->collision_hulls_.push_back(make_hull(static_cast<int>(li), std::move(points)));
+    }
+  }
+}
+
 void RobotModelBuilder::resolve_joint_settings() {
   for (const auto& [name, a] : cfg_.simulation.joint_armature) config_joint("simulation.joint_armature." + name, name);
   for (const auto& [name, g] : cfg_.controller.joint_gains) config_joint("controller.joint_gains." + name, name);
@@ -634,6 +679,7 @@ std::unique_ptr<RobotModel> RobotModelBuilder::build() {
   resolve_soles();
   resolve_joint_settings();
   add_geometry();
+  build_collision_hulls();
   compute_standing_height();
   compile();
   finish_with_mujoco();

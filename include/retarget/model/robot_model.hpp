@@ -23,6 +23,7 @@
 
 #include "retarget/core/diagnostics.hpp"
 #include "retarget/core/types.hpp"
+#include "retarget/model/collision_hull.hpp"
 #include "retarget/model/robot_config.hpp"
 
 struct mjModel_;
@@ -135,6 +136,9 @@ class RobotModel {
 
   double total_mass_kg() const { return total_mass_kg_; }
   const std::array<Sole, 2>& soles() const { return soles_; }  ///< [0] left, [1] right
+  /// Support points of every link's URDF collision geometry, feet included, and of each sole
+  /// rectangle (collision_hull.hpp), grouped by link.
+  const std::vector<CollisionHull>& collision_hulls() const { return collision_hulls_; }
   /// Which foot's sole a MuJoCo geom is: kLeftFoot, kRightFoot, or -1 (floor or other geometry).
   int sole_side(int geom) const;
   /// MuJoCo geom id of the floor plane.
@@ -180,6 +184,7 @@ class RobotModel {
   VecX q_lower_, q_upper_, velocity_limits_, effort_limits_;
   double total_mass_kg_ = 0;
   std::array<Sole, 2> soles_;
+  std::vector<CollisionHull> collision_hulls_;
   VecX standing_q_;
   double standing_com_height_m_ = 0;
   int floor_geom_ = -1;
