@@ -53,6 +53,8 @@ int inspect_clip(InspectOptions o) {
                       s.units_overridden ? ", overridden" : ", detected");
   std::cout << format("  up axis       %c%s\n", s.up_axis, s.up_axis_overridden ? ", overridden" : ", detected");
   std::cout << format("  floor height  %.3f m in the source (moved to z = 0)\n", s.floor_height_m);
+  std::cout << format("  floor tilt    %.2f deg under the feet%s, uneven by %.3f m (p90 - p10 of the contacts about the plane)\n",
+                      s.floor_tilt_deg, s.floor_tilt_deg > 0 ? " (levelled)" : "", s.floor_unevenness_m);
   for (const auto& [key, value] : s.details) std::cout << format("  %-13s %s\n", key.c_str(), value.c_str());
   std::vector<std::string> found, missing;
   for (Landmark l : all_landmarks()) {

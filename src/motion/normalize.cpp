@@ -4,6 +4,8 @@
 #include <cmath>
 
 #include "retarget/core/error.hpp"
+#include "retarget/core/strings.hpp"
+#include "retarget/motion/floor_plane.hpp"
 
 namespace rt {
 
@@ -196,9 +198,21 @@ void derive_orientations(HumanMotion& m) {
     // Without a heel the foot axis is ankle -> toe, which slopes down by the (unknown) height of
     // the ankle over the ball, and the roll is unobservable (assumed zero). The slope is removed
     // with a constant pitch: the median slope over the frames where the toe is on the floor.
-    fill_orientation(m, ankle, [&, ankle = ankle, toe = toe](int f, Quat* q) {
+    // The heading comes from the plane of the shank and the foot axis (its normal, levelled, is the
+    // foot's y axis): with the world vertical instead, a foot pointing its toes down in swing (the
+    // ankle-toe axis vertical) has no heading and the frame flips by 180° between frames.
+    const Landmark knee = ankle == Landmark::LeftAnkle ? Landmark::LeftKnee : Landmark::RightKnee;
+    fill_orientation(m, ankle, [&, ankle = ankle, toe = toe, knee](int f, Quat* q) {
       if (!valid(ankle, f) || !valid(toe, f)) return false;
-      return frame_from_x_and_up(p(toe, f) - p(ankle, f), Vec3::UnitZ(), q);
+      const Vec3 axis = p(toe, f) - p(ankle, f);
+      if (valid(knee, f)) {
+        const Vec3 shank = p(knee, f) - p(ankle, f);
+        Vec3 y = shank.cross(axis);
+        y.z() = 0;  // levelled: zero roll
+        // The plane is defined while the foot axis and the shank are more than ~15° apart.
+        if (y.norm() > 0.25 * shank.norm() * axis.norm()) return frame_from_x_and_up(axis, axis.cross(y.normalized()), q);
+      }
+      return frame_from_x_and_up(axis, Vec3::UnitZ(), q);
     });
     LandmarkTrack& t = m[ankle];
     if (!t.has_orientation) continue;
@@ -227,6 +241,28 @@ void normalize_motion(HumanMotion& m, const NormalizeOptions& options) {
     transform_motion(m, shift);
   }
   if (options.align_start) transform_motion(m, start_alignment(m));
+  if (options.level_floor && options.move_floor_to_zero) {
+    // A tilted floor (or a tilted capture volume) is levelled, then moved to z = 0 again.
+    const FloorPlane plane = estimate_floor_plane(m);
+    m.source.floor_unevenness_m = plane.unevenness_m;
+    if (plane.rejected_steep)
+      m.diagnostics.warn(m.source.path, format("floor: the feet's contacts fit a plane steeper than %g deg; not levelled",
+                                               FloorPlaneOptions{}.max_tilt_deg));
+    if (plane.tilt_deg > options.level_min_tilt_deg) {
+      level_onto_floor(m, plane);
+      m.source.floor_tilt_deg = plane.tilt_deg;
+      Iso3 shift = Iso3::Identity();
+      shift.translation().z() = -estimate_floor_height(m, options.floor_percentile);
+      transform_motion(m, shift);
+      if (plane.tilt_deg > options.warn_tilt_deg)
+        m.diagnostics.warn(m.source.path, format("floor: tilted %.2f deg under the feet's contacts; the motion was levelled onto z = 0",
+                                                 plane.tilt_deg));
+    }
+    if (plane.unevenness_m > options.warn_unevenness_m)
+      m.diagnostics.warn(m.source.path, format("floor: uneven, the feet's contact heights spread %.1f cm about a plane "
+                                               "(steps, a ramp or marker drift); robot stance soles are put on one level floor",
+                                               100 * plane.unevenness_m));
+  }
   derive_orientations(m);
 }
 

@@ -54,6 +54,8 @@ struct MotionSourceInfo {
   bool up_axis_overridden = false;
   int dropped_leading_frames = 0;  ///< synthetic T-pose frames removed at the start
   double floor_height_m = 0;    ///< [m] floor height found in the source (before it was moved to z = 0)
+  double floor_tilt_deg = 0;    ///< slope of the floor plane fitted to the feet's contacts, removed (floor_plane.hpp)
+  double floor_unevenness_m = 0;  ///< spread of the contact heights about that plane
   /// Format-specific facts ("joints": "31", "markers": "55", "channels": "96", ...).
   std::map<std::string, std::string> details;
 };
@@ -62,6 +64,9 @@ struct HumanMotion {
   MotionSourceInfo source;
   double fps = 0;       ///< [Hz] frame rate after overrides
   int num_frames = 0;
+  /// Played this many times slower than recorded (the retime pass; 1 for a loaded clip): one second
+  /// of the source is fps · time_scale frames. Speed thresholds are taken on the source timeline.
+  double time_scale = 1;
   std::array<LandmarkTrack, kLandmarkCount> landmarks;
   Diagnostics diagnostics;  ///< warnings and notes produced while loading
 

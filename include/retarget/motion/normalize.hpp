@@ -14,6 +14,13 @@ struct NormalizeOptions {
   /// Percentile (0..1) of the per-frame lowest foot landmark height taken as the floor; a low
   /// percentile ignores a few glitched frames but still finds the floor in clips with jumps.
   double floor_percentile = 0.02;
+  /// Fit a plane to the feet's contacts (floor_plane.hpp) and level the motion onto it when it is
+  /// tilted more than level_min_tilt_deg; warn above warn_tilt_deg, or when the contacts spread more
+  /// than warn_unevenness_m about the plane.
+  bool level_floor = true;
+  double level_min_tilt_deg = 0.2;
+  double warn_tilt_deg = 1.0;
+  double warn_unevenness_m = 0.03;
 };
 
 /// Rotation that maps a source frame with the given up axis ('x', 'y', 'z'; `negative` for a
@@ -37,8 +44,8 @@ void transform_motion(HumanMotion& motion, const Iso3& X_new_old);
 /// inputs are missing keep has_orientation = false.
 void derive_orientations(HumanMotion& motion);
 
-/// Runs floor estimation (records source.floor_height_m), floor shift, alignment and orientation
-/// derivation, in that order. Readers call this last.
+/// Runs floor estimation (records source.floor_height_m), floor shift, alignment, floor levelling
+/// (source.floor_tilt_deg) and orientation derivation, in that order. Readers call this last.
 void normalize_motion(HumanMotion& motion, const NormalizeOptions& options = {});
 
 }  // namespace rt
