@@ -184,6 +184,25 @@ std::vector<SkeletonProfile> make_builtin_profiles() {
        {L::LeftHand, {end_site("{s}Wrist")}}},
       {"RootJoint", "{s}ToeJoint", "pelvis_lowerback", "lowerback_torso", "torso_head", "{s}Torso_Clavicle"}));
 
+  // Ubisoft La Forge Animation Dataset (LAFAN1): Mixamo-like names without the ToeBase/Hand_End
+  // joints; every End Site has a zero OFFSET, so the head landmark falls back to the Head joint and
+  // the hand landmark is not available (as for Bandai Namco).
+  out.push_back(make_profile(
+      "lafan1",
+      {{L::Spine, {joint("Spine")}},
+       {L::Chest, {joint("Spine2"), joint("Spine1")}},
+       {L::Neck, {joint("Neck")}},
+       {L::Head, {midpoint("Head")}}},
+      {{L::LeftHip, {joint("{Side}UpLeg")}},
+       {L::LeftKnee, {joint("{Side}Leg")}},
+       {L::LeftAnkle, {joint("{Side}Foot")}},
+       {L::LeftToe, {joint("{Side}Toe")}},
+       {L::LeftShoulder, {joint("{Side}Arm")}},
+       {L::LeftElbow, {joint("{Side}ForeArm")}},
+       {L::LeftWrist, {joint("{Side}Hand")}},
+       {L::LeftHand, {end_site("{Side}Hand")}}},
+      {"{Side}Toe", "Spine2"}));
+
   // Mixamo naming (optionally `mixamorig:`-prefixed), also used by the PyMO demo clips, whose
   // minimal skeleton has a single Spine joint (it then serves as spine and chest) and no neck.
   out.push_back(make_profile(
