@@ -15,6 +15,7 @@ HumanMotion retime_motion(const HumanMotion& in, double S) {
   const int T_out = static_cast<int>(std::floor(duration * S * in.fps + 1e-9)) + 1;
   HumanMotion out = in;
   out.num_frames = T_out;
+  out.time_scale = in.time_scale * S;
   for (Landmark l : all_landmarks()) {
     const LandmarkTrack& a = in[l];
     LandmarkTrack& b = out[l];
