@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "retarget/core/error.hpp"
+#include "retarget/model/collision_hull.hpp"
 #include "retarget/model/kinematics.hpp"
 
 namespace rt {
@@ -14,6 +15,20 @@ namespace {
 Vec3 rotation_log(const Mat3& R) {
   const AngleAxis aa(R);
   return aa.angle() * aa.axis();
+}
+
+// Adds one 3-row residual block s·(J r) to the normal equations (upper triangle of H), over its
+// chain's columns only (plain loops: the blocks are 3 x ≤20, far below where a GEMM pays off).
+void accumulate(const MatXr& J, const Vec3& r, double s, const std::vector<int>& chain, MatX& H, VecX& g) {
+  const double s2 = s * s;
+  for (const int a : chain) {
+    const Vec3 ja(J(0, a), J(1, a), J(2, a));
+    g[a] += s2 * ja.dot(r);
+    for (const int b : chain) {
+      if (b < a) continue;
+      H(a, b) += s2 * (ja.x() * J(0, b) + ja.y() * J(1, b) + ja.z() * J(2, b));
+    }
+  }
 }
 }  // namespace
 
@@ -39,8 +54,46 @@ LandmarkIk::LandmarkIk(const RobotModel& model, IkOptions options) : model_(&mod
 
 Mat3 LandmarkIk::landmark_frame_in_link(int link) const { return R_L_lm_.at(static_cast<std::size_t>(link)); }
 
+double LandmarkIk::add_targets(const RobotData& data, const std::vector<IkTarget>& targets, MatX* H, VecX* g, MatXr& jp,
+                               MatXr& jr) const {
+  const RobotModel& model = *model_;
+  const mjModel* m = model.mj();
+  double cost = 0;
+  for (const IkTarget& t : targets) {
+    if (t.weight <= 0 && t.orientation_weight <= 0) continue;
+    const Iso3 X = link_pose(model, data, t.link);
+    const Vec3 p_W = X * t.p_L;
+    const int body = model.links()[static_cast<std::size_t>(t.link)].body;
+    if (H) mj_jac(m, data.mj(), jp.data(), jr.data(), p_W.data(), body);
+    const std::vector<int>& chain = chains_[static_cast<std::size_t>(t.link)];
+    if (t.weight > 0) {
+      const Vec3 r = p_W - t.p_W;
+      cost += 0.5 * t.weight * r.squaredNorm();
+      if (H) accumulate(jp, r, std::sqrt(t.weight), chain, *H, *g);
+    }
+    if (t.orientation_weight > 0) {
+      // r = log(R_now R_targetᵀ): rotating the link by δω changes r by ≈ δω (Gauss–Newton).
+      const Vec3 r = rotation_log(X.linear() * t.R_L_frame * t.R_W.toRotationMatrix().transpose());
+      cost += 0.5 * t.orientation_weight * r.squaredNorm();
+      if (H) accumulate(jr, r, std::sqrt(t.orientation_weight), chain, *H, *g);
+    }
+  }
+  return cost;
+}
+
+MatX LandmarkIk::targets_normal_matrix(RobotData& data, const std::vector<IkTarget>& targets, const VecX& q) const {
+  const int nv = model_->nv();
+  update_kinematics(*model_, data, q);
+  MatX H = MatX::Zero(nv, nv);
+  VecX g = VecX::Zero(nv);
+  MatXr jp(3, nv), jr(3, nv);
+  add_targets(data, targets, &H, &g, jp, jr);
+  H.triangularView<Eigen::StrictlyLower>() = H.transpose();
+  return H;
+}
+
 IkResult LandmarkIk::solve(RobotData& data, const std::vector<IkTarget>& targets, const VecX& q_prev, VecX& q,
-                           const IkComTarget& com) const {
+                           const IkComTarget& com, const IkFloorTerm& floor) const {
   const RobotModel& model = *model_;
   const mjModel* m = model.mj();
   const int nv = model.nv(), nu = model.nu();
@@ -50,21 +103,11 @@ IkResult LandmarkIk::solve(RobotData& data, const std::vector<IkTarget>& targets
   for (int i = 0; i < nu; ++i) q[7 + i] = std::clamp(q[7 + i], std::min(lo[i], hi[i]), std::max(lo[i], hi[i]));
 
   const double reg = options_.regularization;
+  const VecX& factors = options_.regularization_factors;
+  const bool per_dof = factors.size() == nv;
+  RT_DEMAND(per_dof || factors.size() == 0, "LandmarkIk: regularization_factors must have nv entries");
   MatXr jp(3, nv), jr(3, nv);
-
-  // Adds one 3-row residual block s·(J r) to the normal equations, over its chain's columns only
-  // (plain loops: the blocks are 3 x ≤20, far below where a GEMM pays off).
-  auto accumulate = [&](const MatXr& J, const Vec3& r, double s, const std::vector<int>& chain, MatX& H, VecX& g) {
-    const double s2 = s * s;
-    for (const int a : chain) {
-      const Vec3 ja(J(0, a), J(1, a), J(2, a));
-      g[a] += s2 * ja.dot(r);
-      for (const int b : chain) {
-        if (b < a) continue;
-        H(a, b) += s2 * (ja.x() * J(0, b) + ja.y() * J(1, b) + ja.z() * J(2, b));
-      }
-    }
-  };
+  std::vector<FloorPenalty> penalties;
 
   LeastSquaresProblem problem;
   problem.tangent_size = nv;
@@ -74,26 +117,7 @@ IkResult LandmarkIk::solve(RobotData& data, const std::vector<IkTarget>& targets
       H->setZero(nv, nv);
       g->setZero(nv);
     }
-    double cost = 0;
-    for (const IkTarget& t : targets) {
-      if (t.weight <= 0 && t.orientation_weight <= 0) continue;
-      const Iso3 X = link_pose(model, data, t.link);
-      const Vec3 p_W = X * t.p_L;
-      const int body = model.links()[static_cast<std::size_t>(t.link)].body;
-      if (H) mj_jac(m, data.mj(), jp.data(), jr.data(), p_W.data(), body);
-      const std::vector<int>& chain = chains_[static_cast<std::size_t>(t.link)];
-      if (t.weight > 0) {
-        const Vec3 r = p_W - t.p_W;
-        cost += 0.5 * t.weight * r.squaredNorm();
-        if (H) accumulate(jp, r, std::sqrt(t.weight), chain, *H, *g);
-      }
-      if (t.orientation_weight > 0) {
-        // r = log(R_now R_targetᵀ): rotating the link by δω changes r by ≈ δω (Gauss–Newton).
-        const Vec3 r = rotation_log(X.linear() * t.R_L_frame * t.R_W.toRotationMatrix().transpose());
-        cost += 0.5 * t.orientation_weight * r.squaredNorm();
-        if (H) accumulate(jr, r, std::sqrt(t.orientation_weight), chain, *H, *g);
-      }
-    }
+    double cost = add_targets(data, targets, H, g, jp, jr);
     if (com.weight > 0) {
       const int rows = com.horizontal_only ? 2 : 3;
       const Vec3 e = com_position(model, data) - com.p_W;
@@ -104,11 +128,38 @@ IkResult LandmarkIk::solve(RobotData& data, const std::vector<IkTarget>& targets
         *g += com.weight * Jc.transpose() * e.head(rows);
       }
     }
+    if (floor.weight > 0) {
+      penalties.clear();
+      floor_penalties(model, data, floor.weight, floor.link_min_height_m, floor.skip_links, penalties);
+      for (const FloorPenalty& pen : penalties) {
+        cost += pen.cost;
+        if (!H) continue;
+        mj_jac(m, data.mj(), jp.data(), jr.data(), pen.p_W_origin.data(), model.links()[static_cast<std::size_t>(pen.link)].body);
+        const std::vector<int>& chain = chains_[static_cast<std::size_t>(pen.link)];
+        // B = [J_p,z; J_ω,x; J_ω,y] over the chain: H += Bᵀ M B, g += Bᵀ m.
+        for (const int a : chain) {
+          const Vec3 ba(jp(2, a), jr(0, a), jr(1, a));
+          (*g)[a] += ba.dot(pen.m);
+          const Vec3 Mba = pen.M * ba;
+          for (const int c : chain)
+            if (c >= a) (*H)(a, c) += Mba.dot(Vec3(jp(2, c), jr(0, c), jr(1, c)));
+        }
+      }
+    }
     const VecX d = difference(model, q_prev, x, 1.0);
-    cost += 0.5 * reg * d.squaredNorm();
+    if (per_dof) {
+      cost += 0.5 * reg * d.dot(factors.cwiseProduct(d));
+    } else {
+      cost += 0.5 * reg * d.squaredNorm();
+    }
     if (H) {
-      H->diagonal().array() += reg;
-      *g += reg * d;
+      if (per_dof) {
+        H->diagonal() += reg * factors;
+        *g += reg * factors.cwiseProduct(d);
+      } else {
+        H->diagonal().array() += reg;
+        *g += reg * d;
+      }
       H->triangularView<Eigen::StrictlyLower>() = H->transpose();  // blocks filled the upper triangle
     }
     return cost;
@@ -129,6 +180,7 @@ IkResult LandmarkIk::solve(RobotData& data, const std::vector<IkTarget>& targets
   lm.max_iterations = options_.max_iterations;
   lm.step_tolerance = options_.step_tolerance;
   lm.cost_tolerance = options_.cost_tolerance;
+  lm.initial_damping = options_.initial_damping;
   IkResult result;
   result.solver = solve_bounded_lm(problem, q, lm);
 

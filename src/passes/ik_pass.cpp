@@ -6,6 +6,7 @@
 
 #include "retarget/core/error.hpp"
 #include "retarget/core/strings.hpp"
+#include "retarget/model/kinematics.hpp"
 #include "retarget/model/robot_model.hpp"
 
 namespace rt {
@@ -32,8 +33,27 @@ double median(std::vector<double> v) {
 
 }  // namespace
 
-void lock_stance_feet(LandmarkTargets& targets, const ContactSchedule& contacts) {
+void lock_stance_feet(const RobotModel& model, LandmarkTargets& targets, const ContactSchedule& contacts) {
   if (contacts.empty()) return;
+  // Height of each mapped foot landmark point above its sole when the foot is flat (zero
+  // configuration, where robot configs have their soles level).
+  std::array<double, kLandmarkCount> height{};
+  std::array<bool, kLandmarkCount> mapped{};
+  {
+    RobotData data(model);
+    VecX q0 = VecX::Zero(model.nq());
+    q0[3] = 1;
+    update_kinematics(model, data, q0);
+    for (const LandmarkTarget& lt : model.config().landmarks) {
+      const int foot = foot_of(lt.landmark);
+      if (foot < 0) continue;
+      const Sole& sole = model.soles()[static_cast<std::size_t>(foot)];
+      const auto k = static_cast<std::size_t>(index(lt.landmark));
+      height[k] = link_point(model, data, model.link_index(lt.link), lt.p_L_offset).z() -
+                  link_point(model, data, sole.link, sole.p_L_center).z();
+      mapped[k] = true;
+    }
+  }
   for (int foot = 0; foot < 2; ++foot) {
     const auto& c = contacts.in_contact[static_cast<std::size_t>(foot)];
     const int T = static_cast<int>(c.size());
@@ -54,6 +74,20 @@ void lock_stance_feet(LandmarkTargets& targets, const ContactSchedule& contacts)
           if (v.empty()) continue;
           const double m = median(std::move(v));
           for (int f = begin; f < end; ++f) t.p_W(axis, f) = m;
+        }
+        const auto k = static_cast<std::size_t>(index(l));
+        if (mapped[k])
+          for (int f = begin; f < end; ++f) t.p_W(2, f) = height[k];
+        if (t.has_orientation) {
+          Vec2 heading = Vec2::Zero();
+          for (int f = begin; f < end; ++f) {
+            const Vec3 x = t.R_W[static_cast<std::size_t>(f)] * Vec3::UnitX();
+            if (t.valid(f) && x.head<2>().norm() > 1e-6) heading += x.head<2>().normalized();
+          }
+          if (heading.norm() > 1e-9) {
+            const Quat flat(AngleAxis(std::atan2(heading.y(), heading.x()), Vec3::UnitZ()));
+            for (int f = begin; f < end; ++f) t.R_W[static_cast<std::size_t>(f)] = flat;
+          }
         }
       }
       begin = end;
@@ -129,7 +163,7 @@ void IkPass::run(Clip& clip, PassContext& ctx) {
   RobotData& data = ctx.data();
   const int T = clip.human.num_frames;
   if (T < 1) throw InputError(clip.human.source.path, "ik: the clip has no frames");
-  if (!clip.targets[Landmark::Pelvis].present) throw InternalError("ik: run the scale pass first");
+  if (!clip.targets[Landmark::Pelvis].present) throw InputError("--passes", "ik needs the scaled landmarks of the scale pass: put scale before ik");
 
   IkOptions first = options_.ik;
   first.max_iterations = options_.first_frame_iterations;
@@ -137,7 +171,8 @@ void IkPass::run(Clip& clip, PassContext& ctx) {
   const LandmarkIk ik_first(model, first);
   const LandmarkIk ik(model, options_.ik);
   const bool stance_lock = options_.stance_weight > 0 && !clip.contacts.empty();
-  if (stance_lock) lock_stance_feet(clip.targets, clip.contacts);
+  LandmarkTargets locked = clip.targets;  // the clip keeps the scaled human landmarks
+  if (stance_lock) lock_stance_feet(model, locked, clip.contacts);
   const ContactSchedule* contacts = stance_lock ? &clip.contacts : nullptr;
   const double stance_weight = stance_lock ? options_.stance_weight : 1.0;
   std::vector<double> errors_so_far;
@@ -148,12 +183,12 @@ void IkPass::run(Clip& clip, PassContext& ctx) {
   motion.q.resize(model.nq(), T);
   motion.landmark_error_m.resize(T);
   motion.worst_landmark.assign(static_cast<std::size_t>(T), -1);
-  VecX q = initial_guess(model, clip.targets);
+  VecX q = initial_guess(model, locked);
   std::vector<int> worst_count(kLandmarkCount, 0);
   long iterations = 0;
   std::vector<Landmark> target_landmarks;
   for (int f = 0; f < T; ++f) {
-    const std::vector<IkTarget> targets = make_ik_targets(model, ik, clip.targets, f, options_.interpolated_weight,
+    const std::vector<IkTarget> targets = make_ik_targets(model, ik, locked, f, options_.interpolated_weight,
                                                           &target_landmarks, contacts, stance_weight);
     if (targets.empty())
       throw InputError(clip.human.source.path + " frame " + std::to_string(f), "ik: no valid landmark to track");

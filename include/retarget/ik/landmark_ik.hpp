@@ -13,6 +13,7 @@
 
 #include <array>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "retarget/core/types.hpp"
@@ -26,6 +27,9 @@ struct IkOptions {
   double step_tolerance = 1e-4;      ///< [rad, m] stop when no joint or root coordinate moves more
   double cost_tolerance = 1e-2;      ///< stop when a step lowers the cost by less than this fraction
   double regularization = 1e-3;      ///< λ: weight of q ⊖ q_prev relative to a unit landmark weight
+  /// Optional per-coordinate factors of λ (size nv, v order); empty: 1 for every coordinate.
+  VecX regularization_factors;
+  double initial_damping = 1e-3;     ///< Levenberg–Marquardt damping at the start, relative to the mean diagonal
   double joint_limit_margin = 1e-4;  ///< [rad] the solution stays this far inside the limits
   /// Which root coordinates may move (v order: x, y, z, then rotation about the root's x, y, z).
   std::array<bool, 6> root_free{{true, true, true, true, true, true}};
@@ -49,6 +53,15 @@ struct IkComTarget {
   bool horizontal_only = true;  ///< track x, y only (the balance model's axes)
 };
 
+/// Optional floor term: every collision support point of the robot (collision_hull.hpp) at or above
+/// a minimum height, as a one-sided quadratic penalty ½ w min(0, z − z_min)² (a C¹ cost, so
+/// Gauss–Newton sees only the points currently below). z_min is 0, or per link where given.
+struct IkFloorTerm {
+  double weight = 0;                      ///< 0 disables
+  std::vector<std::pair<int, double>> link_min_height_m;  ///< (link, z_min) overrides, e.g. a swing foot's clearance
+  std::array<int, 2> skip_links{{-1, -1}};  ///< links left out (stance feet held by their targets)
+};
+
 struct IkResult {
   BoundedLmResult solver;
   double rms_error_m = 0;   ///< weighted RMS position error over the targets with weight > 0
@@ -66,11 +79,21 @@ class LandmarkIk {
   /// Solves one frame in place: `q` is the warm start and the result (nq); `q_prev` the
   /// regularisation anchor. Joint values outside the limits in the warm start are clamped first.
   IkResult solve(RobotData& data, const std::vector<IkTarget>& targets, const VecX& q_prev, VecX& q,
-                 const IkComTarget& com = {}) const;
+                 const IkComTarget& com = {}, const IkFloorTerm& floor = {}) const;
+
+  /// Gauss–Newton matrix Σ w JᵀJ (nv x nv, v order) of the targets' residuals at q: how much the
+  /// target cost grows, to second order, for a change of q (the refine pass weighs its foot
+  /// corrections with it). Updates `data`.
+  MatX targets_normal_matrix(RobotData& data, const std::vector<IkTarget>& targets, const VecX& q) const;
 
   const IkOptions& options() const { return options_; }
 
  private:
+  // Adds the targets' cost, and (H, g not null) their Gauss–Newton terms (upper triangle), at the
+  // kinematics in `data`; jp, jr are 3 x nv scratch.
+  double add_targets(const RobotData& data, const std::vector<IkTarget>& targets, MatX* H, VecX* g, MatXr& jp,
+                     MatXr& jr) const;
+
   const RobotModel* model_;
   IkOptions options_;
   std::vector<Mat3> R_L_lm_;  ///< per link

@@ -6,7 +6,12 @@
 ///
 /// Stance lock: when contacts are labelled (label-contacts runs first in the default pipeline), the
 /// foot landmarks of a foot in stance are held at their median horizontal position over that stance
-/// phase and weighted by `stance_weight`, so per-frame IK already keeps planted feet still.
+/// phase, at the robot's own height of that point above its flat sole, with the foot's orientation
+/// target flat at the phase's mean heading, and weighted by `stance_weight`: per-frame IK already
+/// keeps planted feet still and flat. (The human's foot proportions differ from the robot's: a
+/// scaled toe landmark 6 cm under the ankle tilts a robot foot whose toe point is 3 cm under it by
+/// 20° or more.) The lock applies to the IK's copy of the targets; the clip keeps the scaled human
+/// landmarks, which the quality metrics compare with.
 /// Re-seeding: a frame whose error is far above the clip's typical error is solved again from the
 /// standing pose at the previous root pose, and the better solution kept; this gets the solver out of
 /// the wrong branch (e.g. a knee or hip yaw folded the wrong way) that warm starts would keep.
@@ -25,9 +30,10 @@ struct IkPassOptions {
   double reseed_factor = 2.0;          ///< ... and this multiple of the running median error
 };
 
-/// Foot landmark targets held still in stance (see file comment): for each labelled stance phase,
-/// the horizontal positions of that foot's ankle, toe and heel targets become their phase medians.
-void lock_stance_feet(LandmarkTargets& targets, const ContactSchedule& contacts);
+/// Foot landmark targets held still and flat in stance (see file comment): for each labelled stance
+/// phase, the horizontal positions of that foot's ankle, toe and heel targets become their phase
+/// medians, their heights the robot's flat-foot heights, the ankle orientation flat at the mean heading.
+void lock_stance_feet(const RobotModel& model, LandmarkTargets& targets, const ContactSchedule& contacts);
 
 /// IK targets of one frame from the scaled landmarks and the robot's landmark map; `landmarks`
 /// (optional) receives the landmark of each target.
