@@ -143,6 +143,9 @@ Command setup_batch(CLI::App& parent) {
       ->default_val(1.0)
       ->check(CLI::Range(0.05, 20.0))
       ->group(g);
+  app->add_option("--max-joint-speed", b.convert.max_joint_speed, "Cap every joint's speed [rad/s] below its URDF limit")
+      ->check(CLI::Range(0.01, 1000.0))
+      ->group(g);
   app->add_option("--source-units", o->source_units, "Override the detected source units (m, cm, mm, inch, cmu or a number)")->group(g);
   app->add_option("--source-fps", o->source_fps, "Override the source frame rate [Hz]")->check(CLI::PositiveNumber)->group(g);
   app->add_option("--up-axis", o->up_axis, "Override the detected up axis: x, y, z (optionally -y, ...)")->group(g);

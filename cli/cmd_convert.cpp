@@ -65,10 +65,22 @@ void print_summary(const ConvertResult& r, bool verbose) {
                           p.statistics.get("human-leg-length"));
   std::cout << format("  landmarks   error median %.3f m, p95 %.3f m (worst: %s)\n", q.landmark_error_median_m,
                       q.landmark_error_p95_m, q.worst_landmark.c_str());
-  std::cout << format("  feet        skating p95 %.4f m, penetration %.4f m; frame 0: tilt %.2f deg, height %.4f m\n",
-                      q.foot_skating_p95_m, q.penetration_max_m, q.frame0_sole_tilt_deg, q.frame0_sole_height_m);
-  std::cout << format("  limits      %d position violations, %d velocity violations (fastest joint at %.2fx its limit)\n",
-                      q.position_limit_violations, q.velocity_limit_violations, q.max_velocity_ratio);
+  const std::string worst = q.worst_stance_foot < 0 ? std::string()
+                                                   : format(" in the %s stance from %.2f s", q.worst_stance_foot == 0 ? "left" : "right",
+                                                            q.worst_stance_start_s);
+  std::cout << format("  stance      skating p95 %.4f m, max %.4f m%s (heel p95 %.4f, max %.4f m); yaw drift max %.2f deg, "
+                      "tilt max %.2f deg, height max %.4f m\n",
+                      q.foot_skating_p95_m, q.foot_skating_max_m, worst.c_str(), q.heel_skating_p95_m, q.heel_skating_max_m,
+                      q.stance_yaw_drift_max_deg, q.stance_tilt_max_deg, q.stance_height_max_m);
+  std::cout << format("  floor       lowest point %.4f m (%s at %.2f s), sole penetration %.4f m; swing clearance min %.4f m "
+                      "(%d frames below %.3f m); frame 0: tilt %.2f deg, height %.4f m\n",
+                      q.lowest_point_m, q.lowest_link.c_str(), q.lowest_time_s, q.penetration_max_m, q.swing_clearance_min_m,
+                      q.swing_frames_low, kSwingClearance_m, q.frame0_sole_tilt_deg, q.frame0_sole_height_m);
+  std::cout << format("  contacts    %d frames without a stance foot (longest %.2f s)\n", q.frames_without_stance,
+                      q.longest_flight_s);
+  std::cout << format("  limits      %d position violations, %d velocity violations (fastest: %s at %.2f, %.2fx its limit)\n",
+                      q.position_limit_violations, q.velocity_limit_violations, q.fastest_joint.c_str(),
+                      q.fastest_joint_speed, q.max_velocity_ratio);
   std::cout << format("  jitter      %.1f rad/s^3 (per-frame IK: %.1f rad/s^3)\n", q.jitter_rad_s3,
                       q.jitter_per_frame_ik_rad_s3);
   std::string times;
@@ -76,6 +88,9 @@ void print_summary(const ConvertResult& r, bool verbose) {
   std::cout << format("  time        load %.1f ms; %s; total %.1f ms\n", r.load_ms, times.c_str(), r.total_ms);
   if (!r.written.empty()) std::cout << "  wrote       " << join(r.written, ", ") << "\n";
   if (verbose) {
+    std::cout << "\nlandmark error per landmark [m]:\n";
+    for (const LandmarkErrorStat& e : q.landmark_errors)
+      std::cout << format("  %-16s median %.4f  p95 %.4f\n", e.landmark.c_str(), e.median_m, e.p95_m);
     std::cout << "\npipeline: " << r.pipeline << "\n";
     for (const PassRecord& p : r.passes) {
       std::cout << format("  %-16s %9.2f ms\n", p.name.c_str(), p.time_ms);
@@ -117,6 +132,10 @@ Command setup_convert(CLI::App& parent) {
   app->add_flag("--keep-tpose", o->keep_tpose, "Keep a synthetic T-pose at the start instead of dropping it");
   app->add_option("--time-scale", o->time_scale, "Play the clip S times slower (S > 1) or faster (S < 1) before IK (the retime pass)")
       ->check(CLI::Range(0.05, 20.0));
+  app->add_option("--max-joint-speed", o->request.max_joint_speed,
+                  "Cap every joint's speed [rad/s] below its URDF limit (the refine pass's max_joint_speed; other tools "
+                  "default to 3 pi = 9.42)")
+      ->check(CLI::Range(0.01, 1000.0));
   app->add_option("--package-path", o->package_paths, "Extra root folder for package:// URIs (repeatable)");
   app->add_flag("-v,--verbose", o->verbose, "Print the pipeline with all options and per-pass statistics");
   app->add_flag("--check", o->check,

@@ -41,6 +41,7 @@ std::vector<std::string> convert_arguments(const BatchClip& clip, const ConvertS
   for (const std::string& p : s.disabled_passes) a.push_back("--no-" + p);
   for (const std::string& p : s.enabled_passes) a.push_back("--" + p);
   if (s.time_scale != 1.0) a.insert(a.end(), {"--time-scale", number(s.time_scale)});
+  if (s.max_joint_speed > 0) a.insert(a.end(), {"--max-joint-speed", number(s.max_joint_speed)});
   if (s.source_units) a.insert(a.end(), {"--source-units", *s.source_units});
   if (s.source_fps) a.insert(a.end(), {"--source-fps", number(*s.source_fps)});
   if (s.up_axis) a.insert(a.end(), {"--up-axis", *s.up_axis});
@@ -59,6 +60,7 @@ ConvertRequest convert_request_for(const BatchClip& clip, const ConvertSettings&
   r.formats = s.formats;
   r.fps = s.fps;
   r.time_scale = s.time_scale;
+  r.max_joint_speed = s.max_joint_speed;
   r.passes = s.passes;
   r.disabled_passes = s.disabled_passes;
   r.enabled_passes = s.enabled_passes;

@@ -35,15 +35,34 @@ nlohmann::json statistics_json(const Statistics& s) {
 }
 
 nlohmann::json quality_json(const QualityMetrics& q) {
+  nlohmann::json per_landmark = nlohmann::json::object();
+  for (const LandmarkErrorStat& e : q.landmark_errors) per_landmark[e.landmark] = {{"median_m", e.median_m}, {"p95_m", e.p95_m}};
   return {{"landmark_error_median_m", q.landmark_error_median_m},
           {"landmark_error_p95_m", q.landmark_error_p95_m},
           {"worst_landmark", q.worst_landmark},
+          {"landmark_errors", per_landmark},
           {"foot_skating_p95_m", q.foot_skating_p95_m},
           {"foot_skating_max_m", q.foot_skating_max_m},
+          {"worst_stance_foot", q.worst_stance_foot < 0 ? "none" : q.worst_stance_foot == 0 ? "left" : "right"},
+          {"worst_stance_start_s", q.worst_stance_start_s},
+          {"heel_skating_p95_m", q.heel_skating_p95_m},
+          {"heel_skating_max_m", q.heel_skating_max_m},
+          {"stance_yaw_drift_max_deg", q.stance_yaw_drift_max_deg},
+          {"stance_tilt_max_deg", q.stance_tilt_max_deg},
+          {"stance_height_max_m", q.stance_height_max_m},
           {"penetration_max_m", q.penetration_max_m},
+          {"lowest_point_m", q.lowest_point_m},
+          {"lowest_link", q.lowest_link},
+          {"lowest_time_s", q.lowest_time_s},
+          {"swing_clearance_min_m", q.swing_clearance_min_m},
+          {"swing_frames_low", q.swing_frames_low},
+          {"frames_without_stance", q.frames_without_stance},
+          {"longest_flight_s", q.longest_flight_s},
           {"position_limit_violations", q.position_limit_violations},
           {"velocity_limit_violations", q.velocity_limit_violations},
           {"max_velocity_ratio", q.max_velocity_ratio},
+          {"fastest_joint", q.fastest_joint},
+          {"fastest_joint_speed", q.fastest_joint_speed},
           {"jitter_rad_s3", q.jitter_rad_s3},
           {"jitter_per_frame_ik_rad_s3", q.jitter_per_frame_ik_rad_s3},
           {"frame0_sole_tilt_deg", q.frame0_sole_tilt_deg},
@@ -57,6 +76,9 @@ Pipeline make_pipeline(const ConvertRequest& request) {
   if (request.passes.empty() || request.fps != 30.0) pipeline.set_option_everywhere("fps", format("%.17g", request.fps));
   if (request.time_scale != 1.0 && pipeline.set_option_everywhere("time_scale", format("%.17g", request.time_scale)) == 0)
     throw InputError("--time-scale", "the pipeline has no retime pass");
+  if (request.max_joint_speed > 0 &&
+      pipeline.set_option_everywhere("max_joint_speed", format("%.17g", request.max_joint_speed)) == 0)
+    throw InputError("--max-joint-speed", "the pipeline has no refine pass");
   return pipeline;
 }
 

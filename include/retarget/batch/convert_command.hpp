@@ -19,6 +19,7 @@ struct ConvertSettings {
   std::vector<ReferenceFormat> formats{ReferenceFormat::Csv};  ///< --format
   double fps = 30.0;                         ///< [Hz] --fps
   double time_scale = 1.0;                   ///< --time-scale
+  double max_joint_speed = 0;                ///< --max-joint-speed [rad/s] (0: none)
   std::string passes;                        ///< --passes ("" = default pipeline)
   std::vector<std::string> disabled_passes;  ///< --no-<pass>
   std::vector<std::string> enabled_passes;   ///< --<pass> (passes not in the default pipeline)

@@ -19,6 +19,7 @@ struct ConvertRequest {
   std::vector<ReferenceFormat> formats{ReferenceFormat::Csv};
   double fps = 30.0;                   ///< [Hz] output rate (the resample pass's `fps`)
   double time_scale = 1.0;             ///< the retime pass's `time_scale` (> 1 slows the clip)
+  double max_joint_speed = 0;          ///< [rad/s] the refine pass's `max_joint_speed` (0: the URDF limits only)
   std::string passes;                  ///< pipeline spec; "" = the default pipeline
   std::vector<std::string> disabled_passes;  ///< --no-<pass>
   std::vector<std::string> enabled_passes;   ///< --<pass> for a pass not in the default pipeline

@@ -1,9 +1,17 @@
 #pragma once
 /// Quality metrics of a converted clip, with the definitions of design.md §6 (the same numbers go to
-/// the summary, meta.json, tests and benchmarks). Computed on the final robot motion at the source
-/// rate (after every pass, before resampling).
+/// the summary, meta.json, tests and benchmarks).
+///
+/// Where they are measured. Landmark errors and jitter on the final robot motion at the source rate
+/// (where the scaled landmark targets and the per-frame IK result live). Limits on the source rate
+/// too: the exported frames interpolate between source frames, so no exported position or finite-
+/// difference speed can exceed the source rate's. Everything about feet and the floor — stance
+/// drift, yaw, tilt and height, swing clearance, the lowest point of the robot — on the exported
+/// frames (the reference, with its own contact labels), which are what a user or a referee sees;
+/// on the source-rate motion when the pipeline has no resample pass.
 
 #include <string>
+#include <vector>
 
 #include "retarget/pipeline/clip.hpp"
 
@@ -12,33 +20,86 @@ namespace rt {
 class RobotModel;
 class RobotData;
 
+/// Landmark error of one landmark over the clip [m].
+struct LandmarkErrorStat {
+  std::string landmark;
+  double median_m = 0;
+  double p95_m = 0;
+};
+
 struct QualityMetrics {
   /// Per frame: mean distance [m] between the scaled human landmarks and the robot link points they
   /// map to (landmarks with a valid sample and weight > 0); median and p95 over frames.
   double landmark_error_median_m = 0;
   double landmark_error_p95_m = 0;
   std::string worst_landmark;  ///< landmark with the largest mean distance over the clip
-  /// Horizontal travel [m] of a sole centre from where its labelled stance phase began, over all
-  /// stance frames of both feet: p95 (and max).
+  std::vector<LandmarkErrorStat> landmark_errors;  ///< per landmark, in landmark order
+  /// Horizontal travel [m] of a sole point from where its labelled stance phase began, over all
+  /// stance frames of both feet: p95 and max, at the sole centre and at the heel (the middle of the
+  /// sole's rear edge, which shows a pivot about the centre).
   double foot_skating_p95_m = 0;
   double foot_skating_max_m = 0;
+  double heel_skating_p95_m = 0;
+  double heel_skating_max_m = 0;
+  /// The stance phase with the largest centre travel: foot (0 left, 1 right, -1 none) and start [s].
+  int worst_stance_foot = -1;
+  double worst_stance_start_s = 0;
+  /// Within a labelled stance phase: largest turn of the sole about the vertical from the phase's
+  /// first frame [deg], largest sole tilt from horizontal [deg], largest |sole-centre height| [m].
+  double stance_yaw_drift_max_deg = 0;
+  double stance_tilt_max_deg = 0;
+  double stance_height_max_m = 0;
   /// Lowest sole corner below the floor [m] over all frames (0 when never below).
   double penetration_max_m = 0;
+  /// Lowest point of any collision geometry of any link over all frames [m] (negative: below the
+  /// floor), the link and the time [s].
+  double lowest_point_m = 0;
+  std::string lowest_link;
+  double lowest_time_s = 0;
+  /// Swing feet: the lowest sole corner [m] over swing frames more than swing_guard_s (0.1 s) from
+  /// the swing's lift-off and touchdown, and how many such frames are below 1.5 cm.
+  double swing_clearance_min_m = 0;
+  int swing_frames_low = 0;
+  /// Frames with no foot labelled in stance (flight), and the longest such run [s].
+  int frames_without_stance = 0;
+  double longest_flight_s = 0;
   /// Frames x joints outside the position limits (must be 0) / above the URDF velocity limits
   /// (finite differences at the source rate), and the worst velocity ratio |q̇| / limit.
   int position_limit_violations = 0;
   int velocity_limit_violations = 0;
   double max_velocity_ratio = 0;
+  /// Fastest joint: name and its largest finite-difference speed [rad/s or m/s].
+  std::string fastest_joint;
+  double fastest_joint_speed = 0;
   /// RMS of the third finite difference of the joint angles [rad/s³]: final motion and the
   /// per-frame IK result it started from.
   double jitter_rad_s3 = 0;
   double jitter_per_frame_ik_rad_s3 = 0;
-  /// Frame 0: worst sole tilt [deg] and worst sole-centre height above/below the floor [m].
+  /// Frame 0: worst sole tilt [deg] and worst sole-centre height above/below the floor [m] of the
+  /// feet labelled in contact there (all feet when there are no labels).
   double frame0_sole_tilt_deg = 0;
   double frame0_sole_height_m = 0;
 };
 
+/// Swing frames this close to a lift-off or touchdown [s] are exempt from the clearance metric.
+constexpr double kSwingGuard_s = 0.1;
+/// Clearance a swing foot keeps outside those frames [m].
+constexpr double kSwingClearance_m = 0.015;
+
 QualityMetrics compute_quality(const RobotModel& model, RobotData& data, const Clip& clip);
+
+/// The foot and floor metrics (skating, stance yaw/tilt/height, penetration, lowest point, swing
+/// clearance, frames without stance, frame-0 flatness) of a motion `q` (nq x T) at `fps` with its
+/// contact labels (may be empty); the other fields of the result stay 0.
+QualityMetrics foot_metrics(const RobotModel& model, RobotData& data, const MatX& q, double fps,
+                            const std::array<std::vector<std::uint8_t>, 2>& contacts);
+
+/// Landmark error of one frame [m]: the mean distance between the scaled landmark targets valid at
+/// `frame` and the robot points they map to at configuration `q` (the per-frame value of
+/// landmark_error_*; NaN when no landmark is valid there). Updates `data`. When `per_landmark` is
+/// given, each distance is also appended to its landmark's list.
+double frame_landmark_error_m(const RobotModel& model, RobotData& data, const LandmarkTargets& targets, const VecXCRef& q,
+                              int frame, std::array<std::vector<double>, kLandmarkCount>* per_landmark = nullptr);
 
 /// RMS third finite difference of joint angles (rows 7.. of q) [rad/s³].
 double joint_jitter(const MatX& q, double fps);
