@@ -12,62 +12,199 @@
 #include "retarget/passes/ground.hpp"
 #include "retarget/passes/ik_pass.hpp"
 #include "retarget/passes/quality.hpp"
-#include "src/refine/bspline.hpp"
-#include "src/refine/ipopt_solver.hpp"
-#include "src/refine/trajectory_chart.hpp"
-#include "src/refine/window_nlp.hpp"
+#include "src/refine/foot_plan.hpp"
+#include "src/refine/signal_smoother.hpp"
+#include "src/refine/smooth_correction.hpp"
 
 namespace rt {
 
 namespace {
 
-using refine::CollocationPoint;
-using refine::NlpRobot;
-using refine::StanceAnchor;
-using refine::WindowSpec;
+using refine::FootMode;
+using refine::FootTarget;
+using refine::SolePose;
 
-// A labelled stance phase of one foot: source frames [begin, end).
-struct Phase {
-  int foot = 0;
-  int begin = 0, end = 0;
-  bool anchor_known = false;  // solved by an earlier window
-  Vec2 anchor = Vec2::Zero();
-};
-
-// Frames x joints whose finite-difference velocity exceeds the URDF limit (quality.hpp's definition).
-int velocity_violations(const RobotModel& model, const MatX& q, double fps) {
+// Frames x joints above a speed limit (finite differences).
+int speed_violations(const MatX& q, double fps, const VecX& limit) {
   int n = 0;
   for (Eigen::Index f = 1; f < q.cols(); ++f)
-    for (int i = 0; i < model.nu(); ++i) {
-      const double limit = model.velocity_limits()[i];
-      if (limit > 0 && std::abs(q(7 + i, f) - q(7 + i, f - 1)) * fps > limit) ++n;
-    }
+    for (Eigen::Index i = 0; i < limit.size(); ++i)
+      if (limit[i] > 0 && std::abs(q(7 + i, f) - q(7 + i, f - 1)) * fps > limit[i] * (1 + 1e-9)) ++n;
   return n;
 }
 
-VecX config_at(const MatX& controls, double t, int nq) {
-  VecX q(nq);
-  refine::q_from_chart(refine::spline_value(controls, t), q);
-  return q;
+std::array<std::vector<SolePose>, 2> sole_poses(const RobotModel& model, RobotData& data, const MatX& q,
+                                                const std::array<Mat3, 2>& R_L_sole) {
+  std::array<std::vector<SolePose>, 2> out;
+  for (auto& v : out) v.resize(static_cast<std::size_t>(q.cols()));
+  for (Eigen::Index f = 0; f < q.cols(); ++f) {
+    update_kinematics(model, data, q.col(f));
+    for (int foot = 0; foot < 2; ++foot) {
+      const auto k = static_cast<std::size_t>(foot);
+      const Sole& sole = model.soles()[k];
+      const Iso3 X = link_pose(model, data, sole.link);
+      out[k][static_cast<std::size_t>(f)] = {X * sole.p_L_center, X.linear() * R_L_sole[k]};
+    }
+  }
+  return out;
+}
+
+// Smooths every row of `y` (T columns) on its own: bounds per row in `lo`/`hi` (empty: none),
+// speed limits per row in `max_speed` (<= 0 or empty: none), robust with `robust_floor` per row.
+MatX smooth_rows(const MatX& y, double fps, const RefineOptions& ro, const VecX& lo, const VecX& hi, const VecX& max_speed,
+                 const VecX& robust_floor, int* active_rows, int* downweighted) {
+  const Eigen::Index T = y.cols();
+  MatX out = y;
+  if (!(ro.smoothing_hz > 0) || T < 3) return out;
+  const double lambda = refine::smoothing_lambda(ro.smoothing_hz, fps);
+  std::vector<double> row(static_cast<std::size_t>(T)), x;
+  for (Eigen::Index r = 0; r < y.rows(); ++r) {
+    refine::SmoothOptions o;
+    o.lambda = lambda;
+    o.robust_threshold = ro.robust_threshold;
+    o.robust_floor = robust_floor[r];
+    if (lo.size()) o.lo = lo[r];
+    if (hi.size()) o.hi = hi[r];
+    if (max_speed.size() && max_speed[r] > 0) o.max_step = max_speed[r] / fps;
+    for (Eigen::Index f = 0; f < T; ++f) row[static_cast<std::size_t>(f)] = y(r, f);
+    const refine::SmoothReport rep = refine::smooth_signal(row, o, x);
+    *active_rows += rep.active_rows;
+    *downweighted += rep.downweighted;
+    for (Eigen::Index f = 0; f < T; ++f) out(r, f) = x[static_cast<std::size_t>(f)];
+  }
+  return out;
+}
+
+// Step 3 of the header: every coordinate of q smoothed on its own, the root quaternion with sign
+// continuity and renormalised; joints within their position and speed limits.
+MatX smooth_motion(const RobotModel& model, const MatX& q, double fps, const RefineOptions& ro, const VecX& speed_limit,
+                   int* active_rows, int* downweighted) {
+  const int nq = model.nq(), nu = model.nu();
+  MatX src = q;
+  for (Eigen::Index f = 1; f < q.cols(); ++f)
+    if (src.col(f).segment<4>(3).dot(src.col(f - 1).segment<4>(3)) < 0) src.col(f).segment<4>(3) *= -1;
+  VecX lo = VecX::Constant(nq, -1e300), hi = VecX::Constant(nq, 1e300), speed = VecX::Zero(nq);
+  VecX floor = VecX::Constant(nq, 2e-3);  // [rad] (and quaternion units)
+  floor.head<3>().setConstant(1e-3);       // [m]
+  for (int i = 0; i < nu; ++i) {
+    lo[7 + i] = model.q_lower()[i] + ro.limit_margin;
+    hi[7 + i] = model.q_upper()[i] - ro.limit_margin;
+    if (lo[7 + i] > hi[7 + i]) lo[7 + i] = hi[7 + i] = 0.5 * (model.q_lower()[i] + model.q_upper()[i]);
+    speed[7 + i] = speed_limit[i];
+  }
+  MatX out = smooth_rows(src, fps, ro, lo, hi, speed, floor, active_rows, downweighted);
+  for (Eigen::Index f = 0; f < q.cols(); ++f) out.col(f).segment<4>(3).normalize();
+  return out;
+}
+
+// Moves each anchor to where its sole can lie flat: the robot's leg may not reach the IK result's
+// sole flat (an ankle-roll limit under a wide stance, a pitched foot), so with the root held at the
+// IK pose of three frames of the phase (a quarter, half and three quarters in), the leg is solved
+// for the sole flat (weight 1e4) as close as it gets to the anchor (weight 1), and the anchor takes
+// the median of the poses reached.
+void make_anchors_feasible(const RobotModel& model, RobotData& data, const MatX& q, const std::array<Mat3, 2>& R_L_sole,
+                           std::vector<refine::SoleAnchor>& anchors) {
+  IkOptions o;
+  o.max_iterations = 50;
+  o.regularization = 1e-4;
+  o.step_tolerance = 1e-9;
+  o.cost_tolerance = 1e-12;
+  o.root_free = {false, false, false, false, false, false};
+  const LandmarkIk ik(model, o);
+  for (refine::SoleAnchor& a : anchors) {
+    const auto k = static_cast<std::size_t>(a.foot);
+    const Sole& sole = model.soles()[k];
+    IkTarget t;
+    t.link = sole.link;
+    t.p_L = sole.p_L_center;
+    t.p_W = Vec3(a.p_W.x(), a.p_W.y(), 0);
+    t.weight = 1;
+    t.R_L_frame = R_L_sole[k];
+    t.R_W = Quat(AngleAxis(a.yaw, Vec3::UnitZ()));
+    t.orientation_weight = 1e4;
+    std::vector<double> x, y;
+    Vec2 heading = Vec2::Zero();
+    for (const int num : {1, 2, 3}) {
+      const int f = a.begin + (a.end - 1 - a.begin) * num / 4;
+      VecX q_f = q.col(f);
+      ik.solve(data, {t}, q_f, q_f);  // leaves data at the solution
+      const Iso3 X = link_pose(model, data, sole.link);
+      const Vec3 p = X * sole.p_L_center;
+      x.push_back(p.x());
+      y.push_back(p.y());
+      const double yaw = refine::sole_yaw(X.linear() * R_L_sole[k]);
+      heading += Vec2(std::cos(yaw), std::sin(yaw));
+    }
+    std::sort(x.begin(), x.end());
+    std::sort(y.begin(), y.end());
+    a.p_W = Vec2(x[1], y[1]);
+    a.yaw = std::atan2(heading.y(), heading.x());
+  }
+}
+
+// An IK target holding the sole of `foot` at `pose` (position weight w, orientation weight
+// w · length²).
+IkTarget sole_target(const RobotModel& model, int foot, const refine::SolePose& pose, double w, double length,
+                     const std::array<Mat3, 2>& R_L_sole) {
+  const Sole& sole = model.soles()[static_cast<std::size_t>(foot)];
+  IkTarget t;
+  t.link = sole.link;
+  t.p_L = sole.p_L_center;
+  t.p_W = pose.p_W;
+  t.weight = w;
+  t.R_L_frame = R_L_sole[static_cast<std::size_t>(foot)];
+  t.R_W = Quat(pose.R_W);
+  t.orientation_weight = w * length * length;
+  return t;
+}
+
+bool is_foot_landmark(Landmark l) {
+  return l == Landmark::LeftAnkle || l == Landmark::LeftToe || l == Landmark::LeftHeel || l == Landmark::RightAnkle ||
+         l == Landmark::RightToe || l == Landmark::RightHeel;
+}
+
+// M_f of the smooth correction (smooth_correction.hpp): the landmark cost's Gauss–Newton matrix at
+// each frame of q over `dofs`, so that a foot's correction is taken up where it costs the body's
+// landmarks the least. The foot landmarks are left out: the foot plan places the feet. Empty when
+// the clip has no landmark targets at this rate.
+std::vector<MatX> landmark_metric(const RobotModel& model, RobotData& data, const LandmarkIk& ik, const LandmarkTargets& targets,
+                                  const MatX& q, const std::vector<int>& dofs) {
+  const Eigen::Index T = q.cols();
+  for (const LandmarkTrack& track : targets.tracks)
+    if (track.present && (track.p_W.cols() != T || track.state.size() != static_cast<std::size_t>(T))) return {};
+  std::vector<MatX> out(static_cast<std::size_t>(T));
+  std::vector<Landmark> landmarks;
+  const auto n = static_cast<Eigen::Index>(dofs.size());
+  for (Eigen::Index f = 0; f < T; ++f) {
+    std::vector<IkTarget> all = make_ik_targets(model, ik, targets, static_cast<int>(f), 0.5, &landmarks), body;
+    for (std::size_t k = 0; k < all.size(); ++k)
+      if (!is_foot_landmark(landmarks[k])) body.push_back(all[k]);
+    MatX& M = out[static_cast<std::size_t>(f)];
+    M.setZero(n, n);
+    if (body.empty()) continue;
+    const MatX H = ik.targets_normal_matrix(data, body, q.col(f));
+    for (Eigen::Index a = 0; a < n; ++a)
+      for (Eigen::Index c = 0; c < n; ++c) M(a, c) = H(dofs[static_cast<std::size_t>(a)], dofs[static_cast<std::size_t>(c)]);
+  }
+  return out;
 }
 
 }  // namespace
 
 RefinePass::RefinePass() {
-  table_.add("knot_fps", options_.knot_fps, "[Hz] spline knot rate (stride = round(source fps / knot_fps))");
-  table_.add("window", options_.window, "spline control points per window");
-  table_.add("overlap", options_.overlap, "control points shared by consecutive windows (>= 3)");
-  table_.add("acceleration_weight", options_.acceleration_weight, "weight of the squared acceleration per control point");
-  table_.add("pull_weight", options_.pull_weight, "weight of the squared distance to the per-frame IK");
-  table_.add("interpolated_weight", options_.interpolated_weight, "weight factor of gap-filled landmark samples");
-  table_.add("stance_weight", options_.stance_weight, "weight factor of foot landmarks in stance");
-  table_.add("velocity_margin", options_.velocity_margin, "fraction of each velocity limit kept free");
-  table_.add("velocity_activation", options_.velocity_activation, "velocity rows enter the NLP above this fraction of their bound");
+  table_.add("smoothing_hz", options_.smoothing_hz, "[Hz] cutoff of the joint-space smoother (0: no smoothing)");
+  table_.add("robust_threshold", options_.robust_threshold, "[sigma] samples this far from the smoothed curve are weighted down (0: plain)");
+  table_.add("velocity_margin", options_.velocity_margin, "fraction of each joint speed limit kept free");
+  table_.add("max_joint_speed", options_.max_joint_speed, "[rad/s] cap on every joint's speed below its URDF limit (0: none)");
   table_.add("limit_margin", options_.limit_margin, "[rad, m] distance kept from the joint position limits");
-  table_.add("floor_check_height", options_.floor_check_height, "[m] swing-foot corners below this are kept above the floor");
-  table_.add("max_iterations", options_.max_iterations, "Ipopt iterations per window");
-  table_.add("tolerance", options_.tolerance, "Ipopt convergence tolerance");
-  table_.add("mu_init", options_.mu_init, "Ipopt initial barrier parameter");
+  table_.add("swing_clearance", options_.swing_clearance_m, "[m] swing sole height beyond swing_guard of lift-off/touchdown");
+  table_.add("swing_guard", options_.swing_guard_s, "[s] near lift-off and touchdown the swing sole may be lower");
+  table_.add("stance_weight", options_.stance_weight, "weight of the stance sole targets [1/m^2]");
+  table_.add("swing_weight", options_.swing_weight, "weight of the swing sole targets [1/m^2]");
+  table_.add("floor_weight", options_.floor_weight, "weight of collision points below the floor [1/m^2]");
+  table_.add("rounds", options_.rounds, "smooth + project rounds at most");
+  table_.add("max_iterations", options_.max_iterations, "projection iterations per frame");
+  table_.add("landmark_metric", options_.landmark_metric, "weigh the foot correction by the landmark cost (false: joint-space stiffness only)");
 }
 
 void RefinePass::run(Clip& clip, PassContext& ctx) {
@@ -77,30 +214,27 @@ void RefinePass::run(Clip& clip, PassContext& ctx) {
   const RefineOptions& o = options_;
   const int T = motion.num_frames();
   const std::string where = clip.human.source.path.empty() ? clip.name : clip.human.source.path;
-  if (T == 0) throw InternalError("refine: run the ik pass first");
-  if (!clip.targets[Landmark::Pelvis].present) throw InternalError("refine: run the scale pass first");
-  require_input(o.knot_fps > 0 && o.window >= 5 && o.overlap >= 3 && o.overlap < o.window, "refine",
-                "options need knot_fps > 0, window >= 5 and 3 <= overlap < window");
-  require_input(o.acceleration_weight >= 0 && o.pull_weight >= 0 && o.velocity_margin >= 0.001 && o.velocity_margin < 1 &&
-                    o.velocity_activation >= 0 && o.limit_margin >= 0 && o.interpolated_weight >= 0 && o.stance_weight >= 0,
-                "refine", "weights and margins must be >= 0, velocity_margin in [0.001, 1)");
-  require_input(o.max_iterations >= 1 && o.tolerance > 0 && o.mu_init > 0, "refine",
-                "max_iterations must be >= 1, tolerance and mu_init > 0");
+  if (T == 0) throw InputError("--passes", "refine needs the robot motion of the ik pass: put ik before refine");
+  require_input(o.smoothing_hz >= 0 && o.robust_threshold >= 0 && o.velocity_margin >= 0 && o.velocity_margin < 1 && o.max_joint_speed >= 0 &&
+                    o.limit_margin >= 0 && o.swing_clearance_m >= 0 && o.swing_clearance_m <= 0.5 && o.swing_guard_s >= 0 &&
+                    o.swing_guard_s <= 2,
+                "refine", "options need smoothing_hz >= 0, robust_threshold >= 0, velocity_margin in [0, 1), max_joint_speed >= 0, limit_margin >= 0, "
+                          "swing_clearance in [0, 0.5] m, swing_guard in [0, 2] s");
+  require_input(o.stance_weight > 0 && o.swing_weight > 0 && o.floor_weight > 0 && o.rounds >= 1 && o.rounds <= 20 &&
+                    o.max_iterations >= 1 && o.max_iterations <= 1000,
+                "refine", "weights must be > 0, rounds in [1, 20], max_iterations in [1, 1000]");
   if (T < 4 || !(motion.fps > 0)) {
     ctx.statistics.set("skipped", 1, "", "fewer than 4 frames");
     return;
   }
   const auto t_start = std::chrono::steady_clock::now();
   const double fps = motion.fps;
-  const int nq = model.nq(), nv = model.nv();
+  const int nu = model.nu();
+  const double jitter_before = joint_jitter(motion.q, fps);
+  const int velocity_before = speed_violations(motion.q, fps, model.velocity_limits());
 
-  // ---- vertical alignment ----
-  // The per-frame IK leaves stance feet wherever the scaled landmarks put them, often centimetres
-  // above or below the floor; the ground pass (after refine) moves the whole robot vertically to fix
-  // that. The NLP holds stance soles on the floor, so it sees that vertical offset first: the IK
-  // trajectory and the landmark targets are shifted by the ground pass's own per-frame offset, and
-  // landmark costs do not fight the floor constraints (which would straighten the knees).
-  VecX dz_ground = VecX::Zero(T);
+  // 1. Ground: the ground pass's per-frame vertical offset (stance feet near the floor).
+  MatX q_in = motion.q;
   {
     Clip grounded;
     grounded.motion = motion;
@@ -109,365 +243,215 @@ void RefinePass::run(Clip& clip, PassContext& ctx) {
     Diagnostics diagnostics;
     PassContext ground_ctx{&model, &data, statistics, diagnostics};
     GroundPass().run(grounded, ground_ctx);
-    dz_ground = (grounded.motion.q.row(2) - motion.q.row(2)).transpose();
-  }
-  MatX q_in = motion.q;
-  q_in.row(2) += dz_ground.transpose();
-
-  // ---- chart trajectory of the per-frame IK (yaw unwrapped along the clip) ----
-  MatX X_ik(nv, T);
-  double yaw = 0, max_tilt = 0;
-  int worst_tilt_frame = 0;
-  for (int f = 0; f < T; ++f) {
-    const Quat R(motion.q(3, f), motion.q(4, f), motion.q(5, f), motion.q(6, f));
-    if (f == 0) yaw = refine::root_yaw(R.normalized(), 0.0);
-    X_ik.col(f) = refine::chart_from_q(q_in.col(f), yaw);
-    yaw = X_ik(3, f);
-    const double tilt = refine::tilt_angle(R);
-    if (tilt > max_tilt) {
-      max_tilt = tilt;
-      worst_tilt_frame = f;
-    }
-  }
-  if (max_tilt > 0.8 * M_PI) {
-    ctx.diagnostics.warn(where + " frame " + std::to_string(worst_tilt_frame),
-                         format("refine: skipped, the root is upside down (tilt %.0f deg) where the spline chart is singular",
-                                max_tilt * 180 / M_PI));
-    ctx.statistics.set("skipped", 1, "", "root upside down");
-    return;
+    q_in.row(2) = grounded.motion.q.row(2);
   }
 
-  const NlpRobot robot(model, o.limit_margin);
-  const int stride = std::max(1, static_cast<int>(std::lround(fps / o.knot_fps)));
-  const int N = refine::spline_num_controls(T, stride);
-  MatX C = refine::spline_fit(X_ik, stride);
-  for (int j = 0; j < N; ++j)
-    for (int i = 6; i < nv; ++i) C(i, j) = std::clamp(C(i, j), robot.lower[i], robot.upper[i]);
+  // 2. Anchors from the IK result's soles.
+  const std::array<Mat3, 2> R_L_sole = sole_frames_in_links(model, data);
+  std::array<std::vector<std::uint8_t>, 2> contacts = clip.contacts.in_contact;
+  for (auto& c : contacts)
+    if (c.size() != static_cast<std::size_t>(T)) c.assign(static_cast<std::size_t>(T), 0);
+  std::vector<refine::SoleAnchor> anchors = refine::stance_anchors(sole_poses(model, data, q_in, R_L_sole), contacts);
+  make_anchors_feasible(model, data, q_in, R_L_sole, anchors);
 
-  const double jitter_before = joint_jitter(motion.q, fps);
-  const int velocity_before = velocity_violations(model, motion.q, fps);
+  // Joint speed limits: the smoother keeps velocity_margin free of the URDF limit (or the cap).
+  VecX hard_limit = model.velocity_limits();
+  for (int i = 0; i < nu; ++i)
+    if (o.max_joint_speed > 0) hard_limit[i] = hard_limit[i] > 0 ? std::min(hard_limit[i], o.max_joint_speed) : o.max_joint_speed;
+  const VecX speed_limit = hard_limit * (1 - o.velocity_margin);
 
-  // ---- stance phases ----
-  LandmarkTargets targets = clip.targets;
-  for (LandmarkTrack& track : targets.tracks)
-    if (track.present) track.p_W.row(2) += dz_ground.transpose();
-  const bool have_contacts = !clip.contacts.empty();
-  if (have_contacts) lock_stance_feet(targets, clip.contacts);
-  std::vector<Phase> phases;
-  std::array<std::vector<int>, 2> phase_of;
-  for (int foot = 0; foot < 2; ++foot) {
-    phase_of[static_cast<std::size_t>(foot)].assign(static_cast<std::size_t>(T), -1);
-    if (!have_contacts) continue;
-    const auto& c = clip.contacts.in_contact[static_cast<std::size_t>(foot)];
-    for (int f = 0; f < T;) {
-      if (!c[static_cast<std::size_t>(f)]) {
-        ++f;
-        continue;
+  // Who absorbs a foot's correction: the legs; the root and the rest of the body (whose landmarks
+  // the smoothed motion tracks) are 30-100 times stiffer.
+  VecX stiffness = VecX::Constant(model.nv(), 30.0);
+  stiffness.head<3>().setConstant(100.0);
+  std::vector<int> metric_dofs{0, 1, 2, 3, 4, 5};
+  for (int foot = 0; foot < 2; ++foot)
+    for (int d : link_dof_chain(model, model.soles()[static_cast<std::size_t>(foot)].link))
+      if (d >= 6) {
+        stiffness[d] = 1.0;
+        metric_dofs.push_back(d);
       }
-      Phase ph;
-      ph.foot = foot;
-      ph.begin = f;
-      while (f < T && c[static_cast<std::size_t>(f)]) phase_of[static_cast<std::size_t>(foot)][static_cast<std::size_t>(f++)] = static_cast<int>(phases.size());
-      ph.end = f;
-      phases.push_back(ph);
-    }
-  }
+  const double stance_length = 0.1, swing_length = 0.02;  // [m] orientation rows: w · length²
 
-  // ---- collocation points: every knot frame and the last frame ----
-  const LandmarkIk ik(model);
-  std::vector<CollocationPoint> points;
-  // Stance boundaries are collocated too, so that a foot is at its anchor from the first frame of
-  // its stance phase (foot skating is measured from there), not only from the next knot, and lands
-  // and lifts off at rest (still rows). A knot closer than a stride to such a frame (or to the last
-  // frame) is not collocated: collocation frames closer than a spline segment repeat nearly the same
-  // constraint rows and make the KKT systems ill-conditioned (measured with half a stride: Ipopt
-  // stalled on a third of the windows). Boundaries of the two feet are all kept, however close:
-  // dropping one cost several millimetres of skating and no measured clip stalled on them.
-  std::vector<int> frames, fixed_frames{T - 1};
-  for (const Phase& ph : phases) {
-    fixed_frames.push_back(ph.begin);
-    fixed_frames.push_back(ph.end - 1);
-  }
-  std::sort(fixed_frames.begin(), fixed_frames.end());
-  fixed_frames.erase(std::unique(fixed_frames.begin(), fixed_frames.end()), fixed_frames.end());
-  const int min_gap = stride;
-  for (int f = 0; f < T; f += stride) {
-    const auto it = std::lower_bound(fixed_frames.begin(), fixed_frames.end(), f - min_gap + 1);
-    if (it == fixed_frames.end() || *it >= f + min_gap) frames.push_back(f);
-  }
-  frames.insert(frames.end(), fixed_frames.begin(), fixed_frames.end());
-  std::sort(frames.begin(), frames.end());
-  frames.erase(std::unique(frames.begin(), frames.end()), frames.end());
-  int floor_rows = 0, stance_points = 0;
-  for (int f : frames) {
-    CollocationPoint p;
-    p.frame = f;
-    p.support = refine::spline_support(static_cast<double>(f) / stride, N);
-    p.targets = make_ik_targets(model, ik, targets, f, o.interpolated_weight, nullptr, have_contacts ? &clip.contacts : nullptr,
-                                have_contacts ? o.stance_weight : 1.0);
-    p.x_ik = X_ik.col(f);
-    update_kinematics(model, data, config_at(C, static_cast<double>(f) / stride, nq));
+  refine::CorrectionOptions co;
+  co.stance_weight = o.stance_weight;
+  co.swing_weight = o.swing_weight;
+  co.floor_weight = o.floor_weight;
+  co.stance_length_m = stance_length;
+  co.swing_length_m = swing_length;
+  co.lambda = o.smoothing_hz > 0 ? refine::smoothing_lambda(o.smoothing_hz, fps) : 0.0;
+  co.stiffness = stiffness;
+  co.R_L_sole = R_L_sole;
+  co.q_lower = model.q_lower().array() + 2 * o.limit_margin;
+  co.q_upper = model.q_upper().array() - 2 * o.limit_margin;
+  co.max_step = speed_limit / fps;
+  co.metric_dofs = metric_dofs;
+
+  // 5. The per-frame projection (every row met, jittery).
+  IkOptions ik_options;
+  ik_options.max_iterations = o.max_iterations;
+  // A start for the smooth correction, which converges the rows the rest of the way.
+  ik_options.step_tolerance = 1e-6;
+  ik_options.cost_tolerance = 1e-6;
+  ik_options.regularization = 1.0;
+  ik_options.regularization_factors = stiffness;
+  ik_options.joint_limit_margin = o.limit_margin;
+  ik_options.initial_damping = 1e-8;  // the start is close: Gauss–Newton steps from the first iteration
+  const LandmarkIk ik(model, ik_options);
+  refine::FootPlan plan;
+  std::vector<IkTarget> targets;
+  int iterations = 0;
+  // How well frame f holds the plan at the kinematics in `data`: the stance soles' distance [m]
+  // and angle [rad] from their anchors, and the depth [m] of the lowest collision point below the
+  // floor (stance soles excluded). Held: within 1 mm, 0.5 deg and 1 mm.
+  struct FrameHold {
+    double position = 0, angle = 0, floor = 0;
+    bool held() const { return position <= 1e-3 && angle <= 0.5 * M_PI / 180 && floor <= 1e-3; }
+  };
+  std::vector<LowestPoint> low;
+  auto frame_hold = [&](int f) {
+    FrameHold h;
+    std::array<int, 2> skip{{-1, -1}};
     for (int foot = 0; foot < 2; ++foot) {
       const auto k = static_cast<std::size_t>(foot);
-      p.stance[k] = phase_of[k][static_cast<std::size_t>(f)];
-      if (p.stance[k] >= 0) {
-        ++stance_points;
-        continue;
-      }
+      const FootTarget& ft = plan.feet[k][static_cast<std::size_t>(f)];
+      if (ft.mode != FootMode::Stance) continue;
       const Sole& sole = model.soles()[k];
+      skip[k] = sole.link;
       const Iso3 X = link_pose(model, data, sole.link);
-      double lowest = INFINITY;
-      for (const Vec3& c : sole.corners_L()) lowest = std::min(lowest, (X * c).z());
-      p.floor[k] = lowest < o.floor_check_height;
-      floor_rows += p.floor[k] ? 4 : 0;
+      h.position = std::max(h.position, (X * sole.p_L_center - ft.pose.p_W).norm());
+      h.angle = std::max(h.angle, AngleAxis(Mat3(X.linear() * R_L_sole[k] * ft.pose.R_W.transpose())).angle());
     }
-    points.push_back(std::move(p));
-  }
-
-  // A foot lands and lifts off at rest: zero sole velocity at each phase's first and last
-  // collocation frame (its boundary frames unless merged above).
-  for (std::size_t g = 0; g < phases.size(); ++g) {
-    const auto k = static_cast<std::size_t>(phases[g].foot);
-    CollocationPoint* first = nullptr;
-    CollocationPoint* last = nullptr;
-    for (CollocationPoint& p : points)
-      if (p.stance[k] == static_cast<int>(g)) {
-        if (!first) first = &p;
-        last = &p;
-      }
-    if (first) first->still[k] = last->still[k] = true;
-  }
-
-  // ---- windows over the control points ----
-  std::vector<std::pair<int, int>> windows;  // [first, last] control points
-  if (N <= o.window) {
-    windows.emplace_back(0, N - 1);
-  } else {
-    const int count = (N - o.overlap + (o.window - o.overlap) - 1) / (o.window - o.overlap);
-    const double step = static_cast<double>(N - o.overlap) / count;
-    for (int w = 0; w < count; ++w) {
-      const int a = static_cast<int>(std::lround(w * step));
-      const int b = w + 1 == count ? N - 1 : static_cast<int>(std::lround((w + 1) * step)) + o.overlap - 1;
-      windows.emplace_back(a, b);
-    }
-  }
-
-  refine::NlpWeights weights;
-  weights.acceleration = o.acceleration_weight;
-  weights.pull = o.pull_weight;
-  weights.velocity_margin = o.velocity_margin;
-  weights.velocity_activation = o.velocity_activation;
-  refine::IpoptSettings settings;
-  settings.max_iterations = o.max_iterations;
-  settings.tolerance = o.tolerance;
-  settings.mu_init = o.mu_init;
-
-  // Two stages per window (see the header): the coordinates that move a foot, with the contact
-  // constraints; then the others with those fixed.
-  std::vector<std::uint8_t> feet_coordinates = robot.moves_feet, other_coordinates(static_cast<std::size_t>(nv));
-  for (int i = 0; i < nv; ++i) other_coordinates[static_cast<std::size_t>(i)] = !robot.moves_feet[static_cast<std::size_t>(i)];
-  const bool has_other = std::find(other_coordinates.begin(), other_coordinates.end(), 1) != other_coordinates.end();
-
-  // Swing-foot corners of a solution below the floor at collocation frames whose floor rows were
-  // left out (the initial guess had that foot high): flags them; returns how many were added.
-  auto add_floor_rows = [&](WindowSpec& spec, const MatX& C_window) {
-    int added = 0;
-    for (CollocationPoint& p : spec.points) {
-      bool evaluated = false;
+    low.clear();
+    collision_points_below(model, data, 0.0, low, skip[0], skip[1]);
+    for (const LowestPoint& p : low) h.floor = std::max(h.floor, -p.z_m);
+    return h;
+  };
+  auto project = [&](const MatX& q_target_all, MatX& q_out) {
+    iterations = 0;
+    for (int f = 0; f < T; ++f) {
+      targets.clear();
+      IkFloorTerm floor;
+      floor.weight = o.floor_weight;
       for (int foot = 0; foot < 2; ++foot) {
         const auto k = static_cast<std::size_t>(foot);
-        if (p.stance[k] >= 0 || p.floor[k]) continue;
-        if (!evaluated) {
-          VecX x = VecX::Zero(nv);
-          for (int m = 0; m < p.support.count; ++m)
-            x += p.support.weight[static_cast<std::size_t>(m)] * C_window.col(p.support.index[static_cast<std::size_t>(m)] - spec.first_control);
-          VecX q(nq);
-          refine::q_from_chart(x, q);
-          update_kinematics(model, data, q);
-          evaluated = true;
-        }
-        const Sole& sole = model.soles()[k];
-        const Iso3 X = link_pose(model, data, sole.link);
-        for (const Vec3& c : sole.corners_L())
-          if ((X * c).z() < 0) {
-            p.floor[k] = true;
-            ++added;
-            break;
-          }
+        const FootTarget& ft = plan.feet[k][static_cast<std::size_t>(f)];
+        const int link = model.soles()[k].link;
+        if (ft.mode == FootMode::Stance)
+          floor.skip_links[k] = link;
+        else
+          floor.link_min_height_m.emplace_back(link, ft.min_height_m);
+        if (ft.mode == FootMode::Free) continue;
+        // Swing targets are held as firmly as stance ones at lift-off and touchdown, less in between
+        // (the same rows as the smooth correction's).
+        const double blend = ft.mode == FootMode::Stance ? 1.0 : ft.end_blend;
+        targets.push_back(sole_target(model, foot, ft.pose, o.swing_weight + (o.stance_weight - o.swing_weight) * blend,
+                                      swing_length + (stance_length - swing_length) * blend, R_L_sole));
       }
-    }
-    return added;
-  };
-
-  int failed = 0, iterations = 0, solves = 0, velocity_resolves = 0, floor_resolves = 0;
-  double objective = 0, violation = 0, solve_s = 0;
-  std::string failures;
-  // Solves one stage of a window; when the solution violates a velocity row or a floor row that
-  // was left out, adds those rows (and the velocity rows the solution uses beyond
-  // velocity_activation of their bound, which the next solve may push over) and solves again from
-  // that solution: an active set, at most 5 rounds. Returns false when Ipopt failed or a row is
-  // still violated.
-  auto solve_stage = [&](WindowSpec& spec, bool contact_rows, MatX& C_out, std::vector<StanceAnchor>& anchors_out,
-                         std::string& status) {
-    for (int round = 0;; ++round) {
-      refine::WindowNlp nlp(robot, data, spec, weights);
-      VecX x;
-      const refine::IpoptReport r = refine::solve_window(nlp, settings, x);
-      ++solves;
-      iterations += r.iterations;
-      solve_s += r.wall_s;
-      status = r.status_text;
-      if (!r.success) return false;
-      C_out = nlp.controls(x.data());
-      anchors_out = nlp.anchors(x.data());
-      // Rows in the NLP hold to the solver's constraint tolerance, which the velocity margin covers.
-      const bool velocity_ok = nlp.velocity_rows_above(C_out, 1.0, 2 * settings.acceptable_constraint_tolerance).empty();
-      const int floor_added = contact_rows ? add_floor_rows(spec, C_out) : 0;
-      if ((velocity_ok && floor_added == 0) || round == 4) {
-        objective += r.objective;
-        violation = std::max(violation, r.constraint_violation);
-        if (!velocity_ok) status = "velocity rows still violated after 5 solves";
-        return velocity_ok;
-      }
-      if (!velocity_ok) ++velocity_resolves;
-      if (floor_added > 0) ++floor_resolves;
-      if (spec.forced_velocity_rows.empty()) spec.forced_velocity_rows.assign(static_cast<std::size_t>(spec.controls.cols() * nv), 0);
-      for (int v : nlp.velocity_rows_above(C_out, o.velocity_activation)) spec.forced_velocity_rows[static_cast<std::size_t>(v)] = 1;
-      spec.controls = C_out;
-      spec.anchors = anchors_out;
+      // Warm start: the previous frame's correction carried over while the feet keep their modes.
+      VecX q_f = q_target_all.col(f);
+      if (f > 0 && plan.feet[0][static_cast<std::size_t>(f)].mode == plan.feet[0][static_cast<std::size_t>(f - 1)].mode &&
+          plan.feet[1][static_cast<std::size_t>(f)].mode == plan.feet[1][static_cast<std::size_t>(f - 1)].mode)
+        q_f = integrate(model, q_target_all.col(f), difference(model, q_target_all.col(f - 1), q_out.col(f - 1), 1.0), 1.0);
+      const IkResult r = ik.solve(data, targets, q_target_all.col(f), q_f, {}, floor);
+      iterations += r.solver.iterations;
+      q_out.col(f) = q_f;
     }
   };
 
-  for (std::size_t w = 0; w < windows.size(); ++w) {
-    const auto [a, b] = windows[w];
-    WindowSpec spec;
-    spec.first_control = a;
-    spec.num_pinned = w == 0 ? 0 : 3;
-    spec.controls = C.middleCols(a, b - a + 1);
-    spec.segment_s = stride / fps;
-    std::vector<int> local_anchor(phases.size(), -1);
-    std::vector<int> anchor_samples;
-    for (const CollocationPoint& p : points) {
-      const int lo = p.support.index[0], hi = p.support.index[static_cast<std::size_t>(p.support.count - 1)];
-      if (lo < a || hi > b || hi < a + spec.num_pinned) continue;
-      CollocationPoint local = p;
-      for (int foot = 0; foot < 2; ++foot) {
-        const int g = p.stance[static_cast<std::size_t>(foot)];
-        if (g < 0) continue;
-        int& l = local_anchor[static_cast<std::size_t>(g)];
-        if (l < 0) {
-          l = static_cast<int>(spec.anchors.size());
-          StanceAnchor an;
-          an.foot = foot;
-          an.fixed = phases[static_cast<std::size_t>(g)].anchor_known;
-          an.p_W = an.fixed ? phases[static_cast<std::size_t>(g)].anchor : Vec2::Zero();
-          spec.anchors.push_back(an);
-          anchor_samples.push_back(0);
-        }
-        local.stance[static_cast<std::size_t>(foot)] = l;
-        if (!spec.anchors[static_cast<std::size_t>(l)].fixed) {
-          // Initial anchor: mean sole-centre position of the initial guess over the phase.
-          update_kinematics(model, data, config_at(C, static_cast<double>(p.frame) / stride, nq));
-          const Sole& sole = model.soles()[static_cast<std::size_t>(foot)];
-          spec.anchors[static_cast<std::size_t>(l)].p_W += link_point(model, data, sole.link, sole.p_L_center).head<2>();
-          ++anchor_samples[static_cast<std::size_t>(l)];
-        }
+  // Where the smooth correction did not converge onto the rows (a motion its smooth solution cannot
+  // follow within the iterations, e.g. a fast turn over a planted foot in a dance), the frames take
+  // the per-frame projection instead where that holds the rows better, blended in over `ramp` frames on either
+  // side: the feet and the floor come before smoothness (the speed check of the rounds follows).
+  const int ramp = std::max(2, static_cast<int>(std::lround(0.1 * fps)));
+  auto fall_back = [&](MatX& q_smooth_corrected, const MatX& q_frames) {
+    std::vector<double> weight(static_cast<std::size_t>(T), 0.0);
+    int frames = 0;
+    for (int f = 0; f < T; ++f) {
+      update_kinematics(model, data, q_smooth_corrected.col(f));
+      const FrameHold a = frame_hold(f);
+      if (a.held()) continue;
+      update_kinematics(model, data, q_frames.col(f));
+      const FrameHold b = frame_hold(f);
+      if (b.position + 0.1 * b.angle + b.floor >= a.position + 0.1 * a.angle + a.floor) continue;  // [m, rad/10 m]
+      ++frames;
+      for (int g = std::max(0, f - ramp); g <= std::min(T - 1, f + ramp); ++g) {
+        const double u = static_cast<double>(std::abs(g - f)) / (ramp + 1);
+        weight[static_cast<std::size_t>(g)] = std::max(weight[static_cast<std::size_t>(g)], 0.5 * (1 + std::cos(M_PI * u)));
       }
-      spec.points.push_back(std::move(local));
     }
-    for (std::size_t l = 0; l < spec.anchors.size(); ++l)
-      if (!spec.anchors[l].fixed && anchor_samples[l] > 0) spec.anchors[l].p_W /= anchor_samples[l];
-    const auto report_failure = [&](const std::string& stage, const std::string& status) {
-      ++failed;
-      failures += format("%s%d-%d (%s: %s)", failures.empty() ? "" : ", ", std::clamp((a - 1) * stride, 0, T - 1),
-                         std::clamp((b - 1) * stride, 0, T - 1), stage.c_str(), status.c_str());
-    };
+    for (int f = 0; f < T; ++f) {
+      const double w = weight[static_cast<std::size_t>(f)];
+      if (w <= 0) continue;
+      q_smooth_corrected.col(f) =
+          integrate(model, q_smooth_corrected.col(f), difference(model, q_smooth_corrected.col(f), q_frames.col(f), 1.0), w);
+    }
+    return frames;
+  };
 
-    // Stage 1: root and legs, with the stance and floor constraints.
-    WindowSpec feet = spec;
-    feet.free_coordinates = feet_coordinates;
-    MatX C_feet;
-    std::vector<StanceAnchor> anchors;
-    std::string status;
-    if (!solve_stage(feet, true, C_feet, anchors, status)) {
-      report_failure("feet", status);
-      continue;  // the window keeps its initial guess
+  // 3, 5, 6, then again from the result while a joint is faster than its limit.
+  MatX q = q_in;
+  refine::CorrectionReport correction;
+  int rounds = 0, active_rows = 0, downweighted = 0, fallback_frames = 0;
+  for (int round = 0; round < o.rounds; ++round) {
+    rounds = round + 1;
+    active_rows = downweighted = 0;
+    const MatX q_smooth = smooth_motion(model, q, fps, o, speed_limit, &active_rows, &downweighted);
+    if (round == 0) {  // 4. the feet's targets, shaped from the first smoothing of the IK motion
+      refine::FootPlanOptions fo;
+      fo.clearance_m = o.swing_clearance_m;
+      fo.guard_s = o.swing_guard_s;
+      for (int foot = 0; foot < 2; ++foot) fo.sole_size_m[static_cast<std::size_t>(foot)] = model.soles()[static_cast<std::size_t>(foot)].size_m;
+      plan = refine::plan_feet(anchors, sole_poses(model, data, q_smooth, R_L_sole), contacts, fps, fo);
     }
-    const int free_cols = b - a + 1 - spec.num_pinned;
-    C.middleCols(a + spec.num_pinned, free_cols) = C_feet.rightCols(free_cols);
-    for (std::size_t g = 0; g < phases.size(); ++g) {
-      const int l = local_anchor[g];
-      if (l < 0 || phases[g].anchor_known) continue;
-      phases[g].anchor_known = true;
-      phases[g].anchor = anchors[static_cast<std::size_t>(l)].p_W;
-    }
-    if (!has_other) continue;
-
-    // Stage 2: waist, arms and head with the root and legs fixed (no contact rows: they cannot change).
-    WindowSpec upper = spec;
-    upper.controls = C.middleCols(a, b - a + 1);
-    upper.free_coordinates = other_coordinates;
-    upper.anchors.clear();
-    for (CollocationPoint& p : upper.points) {
-      p.stance = {{-1, -1}};
-      p.floor = {{false, false}};
-    }
-    MatX C_upper;
-    if (!solve_stage(upper, false, C_upper, anchors, status)) {
-      report_failure("upper body", status);
-      continue;
-    }
-    C.middleCols(a + spec.num_pinned, free_cols) = C_upper.rightCols(free_cols);
+    // Each frame on its own first (every row met, jittery), then smoothly over the clip from there.
+    MatX q_frames(model.nq(), T);
+    project(q_smooth, q_frames);
+    if (o.landmark_metric) co.metric = landmark_metric(model, data, ik, clip.targets, q_smooth, metric_dofs);
+    q = refine::solve_smooth_correction(model, data, q_smooth, q_frames, plan, co, &correction);
+    fallback_frames = fall_back(q, q_frames);
+    if (speed_violations(q, fps, hard_limit) == 0) break;
   }
-  if (failed > 0)
-    ctx.diagnostics.warn(where, format("refine: %d of %zu windows not solved, kept the IK fit there: frames %s", failed,
-                                       windows.size(), failures.c_str()));
-
-  // ---- the source-rate motion is the spline ----
+  // The limit rows of the correction are penalties: what they leave (micro-radians) is clamped.
+  for (int f = 0; f < T; ++f)
+    for (int i = 0; i < nu; ++i) q(7 + i, f) = std::clamp(q(7 + i, f), model.q_lower()[i], model.q_upper()[i]);
+  const int velocity_after = speed_violations(q, fps, hard_limit);
+  motion.q = q;
+  // The hold of the result (the statistics and the warning say what is exported).
+  int frames_not_held = 0;
+  double worst_position = 0, worst_angle = 0, worst_floor = 0;
   for (int f = 0; f < T; ++f) {
-    VecX q = config_at(C, static_cast<double>(f) / stride, nq);
-    for (int i = 0; i < model.nu(); ++i) q[7 + i] = std::clamp(q[7 + i], model.q_lower()[i], model.q_upper()[i]);
-    motion.q.col(f) = q;
+    update_kinematics(model, data, q.col(f));
+    const FrameHold h = frame_hold(f);
+    frames_not_held += !h.held();
+    worst_position = std::max(worst_position, h.position);
+    worst_angle = std::max(worst_angle, h.angle);
+    worst_floor = std::max(worst_floor, h.floor);
   }
+  if (frames_not_held > 0)
+    ctx.diagnostics.warn(where, format("refine: the stance soles or the floor could not be held on %d frames (worst %.1f mm, %.2f deg, "
+                                       "%.1f mm below the floor): the legs cannot reach both anchors, a joint limit is in the way, or "
+                                       "the motion is too fast to be followed smoothly",
+                                       frames_not_held, 1e3 * worst_position, worst_angle * 180 / M_PI, 1e3 * worst_floor));
+  if (velocity_after > 0)
+    ctx.diagnostics.warn(where, format("refine: %d frames x joints still above their speed limit after %d rounds", velocity_after, rounds));
+
   const double total_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
-
-  // Foot checks at the source rate (quality.hpp measures the same after every pass).
-  double drift = 0, penetration = 0;
-  std::array<Vec2, 2> start{{Vec2::Zero(), Vec2::Zero()}};
-  for (int f = 0; f < T; ++f) {
-    update_kinematics(model, data, motion.q.col(f));
-    for (int foot = 0; foot < 2; ++foot) {
-      const auto k = static_cast<std::size_t>(foot);
-      const Sole& sole = model.soles()[k];
-      const Iso3 X = link_pose(model, data, sole.link);
-      for (const Vec3& c : sole.corners_L()) penetration = std::max(penetration, -(X * c).z());
-      const int g = phase_of[k][static_cast<std::size_t>(f)];
-      if (g < 0) continue;
-      const Vec2 p = (X * sole.p_L_center).head<2>();
-      if (f == phases[static_cast<std::size_t>(g)].begin) start[k] = p;
-      drift = std::max(drift, (p - start[k]).norm());
-    }
-  }
-
-  ctx.statistics.set("stride", stride, "frames", format("knots at %.4g Hz", fps / stride));
-  ctx.statistics.set("control-points", N);
-  ctx.statistics.set("windows", static_cast<double>(windows.size()));
-  ctx.statistics.set("failed-windows", failed, "", failed ? "kept the IK fit" : "");
-  ctx.statistics.set("ipopt-solves", solves, "", format("2 stages per window; re-solved with violated velocity rows %d, floor rows %d", velocity_resolves,
-                                                        floor_resolves));
-  ctx.statistics.set("ipopt-iterations", iterations, "", "all solves");
-  ctx.statistics.set("final-objective", objective, "", "sum over solved windows");
-  ctx.statistics.set("constraint-violation", violation, "", "max over solved windows [m, rad]");
-  ctx.statistics.set("time-per-window", 1e3 * solve_s / static_cast<double>(windows.size()), "ms", "Ipopt solves");
-  ctx.statistics.set("collocation-frames", static_cast<double>(points.size()));
-  ctx.statistics.set("stance-frames", stance_points, "", "collocation frames x feet held in stance");
-  ctx.statistics.set("floor-rows", floor_rows, "", "swing sole corners kept above the floor");
+  ctx.statistics.set("stance-anchors", static_cast<double>(anchors.size()));
+  ctx.statistics.set("rounds", rounds, "", "smooth + project");
+  ctx.statistics.set("smoother-active-rows", active_rows, "", "position or speed limits met by the smoother (last round)");
+  ctx.statistics.set("smoother-downweighted", downweighted, "samples", "coordinates x frames treated as outliers (last round)");
+  ctx.statistics.set("correction-iterations", correction.iterations, "", format("Gauss-Newton over the clip, %d coordinates", correction.coordinates));
+  ctx.statistics.set("projection-iterations-per-frame", static_cast<double>(iterations) / T, "", "last round");
+  ctx.statistics.set("fallback-frames", fallback_frames, "frames", "the smooth correction missed the rows: per-frame projection used (last round)");
+  ctx.statistics.set("stance-error-max", worst_position, "m", "sole centre from its anchor, source rate");
+  ctx.statistics.set("stance-angle-max", worst_angle * 180 / M_PI, "deg", "sole frame from its anchor");
+  ctx.statistics.set("frames-stance-not-held", frames_not_held, "frames", "beyond 1 mm or 0.5 deg, or 1 mm below the floor");
+  ctx.statistics.set("floor-violation-max", worst_floor, "m", "collision point below the floor (stance soles excluded)");
   ctx.statistics.set("jitter-before", jitter_before, "rad/s^3");
   ctx.statistics.set("jitter-after", joint_jitter(motion.q, fps), "rad/s^3");
   ctx.statistics.set("velocity-violations-before", velocity_before, "", "frames x joints");
-  ctx.statistics.set("velocity-violations-after", velocity_violations(model, motion.q, fps), "", "frames x joints");
-  ctx.statistics.set("stance-drift-max", drift, "m", "sole centre travel in labelled stance, source rate");
-  ctx.statistics.set("penetration-max", penetration, "m", "lowest sole corner below the floor, source rate");
+  ctx.statistics.set("velocity-violations-after", velocity_after, "", "frames x joints");
   ctx.statistics.set("frames-per-second", T / std::max(total_s, 1e-9), "frames/s", "source frames, refine only");
 }
 

@@ -6,6 +6,7 @@
 #include "retarget/passes/ik_pass.hpp"
 #include "retarget/passes/label_contacts.hpp"
 #include "retarget/passes/refine.hpp"
+#include "retarget/passes/refine_ipopt.hpp"
 #include "retarget/passes/resample.hpp"
 #include "retarget/passes/retime.hpp"
 #include "retarget/passes/scale.hpp"
@@ -28,6 +29,7 @@ const PassRegistry& builtin_passes() {
       // breaks the feet's kinematic bounds on H1 (no ankle roll: skating, 1-15 cm penetration after
       // rate limiting) and did not change a dynamics-check outcome on the walking clips; the check
       // re-plans online anyway (paper §VI).
+      info<RefineIpoptPass>(false),  // ablation: the former refine (stance only at its knots, 5-20x slower)
       info<GroundPass>(),      info<ComReplanPass>(false), info<ResamplePass>(),
   };
   return registry;

@@ -1,58 +1,55 @@
 #pragma once
-/// `refine` pass (design.md §3.2): a windowed trajectory NLP solved with Ipopt over the per-frame IK
-/// result, at the source rate. It removes what per-frame IK leaves: jitter, joint velocities above
-/// the URDF limits, foot skating and floor penetration.
+/// `refine` pass (design.md §3.2): turns the per-frame IK result into a trajectory a robot can be
+/// given — smooth, within the joint position and velocity limits, feet fixed on the floor in every
+/// labelled stance, swing feet clear of the floor, no part of the robot below the floor — at the
+/// source rate, on every frame (not only at knots).
 ///
-/// Trajectory. Each coordinate of x = [root position, root yaw ψ, root tilt (a, b), joints] (a chart
-/// that turns the root quaternion into a vector space; it excludes only an upside-down root) is a
-/// uniform cubic B-spline with one knot every `stride` = round(source fps / knot_fps) source frames.
-/// The NLP's variables are the control points. Every source frame of the output is the spline's
-/// value, so the result is C² at the source rate, and two B-spline properties carry the limits from
-/// the control points to every source frame exactly: the curve stays in the convex hull of its
-/// control points (joint position limits are plain variable bounds), and its derivative is a
-/// quadratic B-spline of the control-point differences (|C_{j+1} − C_j| ≤ v_max·h bounds the joint
-/// velocity everywhere, so also every finite difference between source frames).
+/// 1. Ground. The robot is moved vertically by the ground pass's own per-frame offset, so that the
+///    stance feet of the IK result are near the floor before anything else.
+/// 2. Anchors. Every labelled stance phase gets one sole pose: flat on the floor, at the median
+///    position and mean heading of the IK result's sole over the phase (refine/foot_plan.hpp says
+///    how pivots and swings follow from that).
+/// 3. Smooth. Each generalised coordinate (root position, the root quaternion with sign
+///    continuity, each joint) is smoothed on its own by a zero-phase second-order low-pass with the
+///    joint position limits and the joint speed limits (URDF, or `max_joint_speed` when lower, less
+///    `velocity_margin`) as constraints (refine/signal_smoother.hpp): O(T), no windows. The loss is
+///    robust (Huber): a few frames where per-frame IK took the wrong branch are removed, not smeared.
+/// 4. Plan the feet (refine/foot_plan.hpp, from the first smoothing): stance soles at their
+///    anchors; swing soles re-timed between the anchors, flat and vertical at lift-off and
+///    touchdown, with `swing_clearance` under their lowest corner.
+/// 5. Project each frame on its own: the least change (in generalised coordinates, the legs 30-100
+///    times cheaper than the root and the rest) that puts its soles on their targets and every
+///    collision point of the robot (collision_hull.hpp) above the floor — the landmark IK with
+///    those targets and a floor term, joint limits as bounds. This meets every row but is jittery.
+/// 6. Correct smoothly (refine/smooth_correction.hpp): from the projection, Gauss–Newton over the
+///    whole clip for the smallest smooth change of the smoothed motion that meets the same rows,
+///    the joint position limits and the speed limits; the change is weighed by the landmark cost's
+///    Gauss–Newton matrix of each frame (`landmark_metric`), so it goes where the body's landmarks
+///    move least.
+/// 7. Repeat 3, 5, 6 from the result (at most `rounds` times) while a joint is faster than its
+///    limit; what the limit penalties leave (micro-radians) is clamped.
 ///
-/// Costs and constraints are evaluated at collocation frames: every knot frame plus the last frame.
-///   objective  Σ landmark position and orientation errors (the IK pass's targets and weights:
-///              make_ik_targets + lock_stance_feet) + pull_weight·|x − x_IK|² at each collocation frame
-///              + acceleration_weight·|ẍ|² at each control point (second differences / h²);
-///   equality   per foot in labelled stance: sole centre at the phase's anchor (x, y; one anchor
-///              variable pair per phase), at z = 0, sole flat (normal vertical);
-///   inequality joint velocity limits (linear, URDF, minus velocity_margin); every sole corner of a
-///              swing foot within floor_check_height of the floor (in the initial guess) at z ≥ 0.
-/// Gauss–Newton Hessian with exact sparsity (per-frame chain blocks, ±3 control-point coupling),
-/// precomputed index maps; Ipopt with MUMPS tuned as in dependencies.md §5.
-///
-/// Windows: `window` control points each, consecutive windows sharing `overlap`. A window is
-/// warm-started from the IK fit and, in the overlap, from the previous window's solution, which it
-/// re-optimises with the later frames in view. Its first three control points stay pinned to the
-/// previous solution: the hand-over is C² and every constraint across the junction holds. A window
-/// Ipopt cannot solve (status other than solved / acceptable) keeps its initial guess (the
-/// B-spline fit of the per-frame IK), is counted in `failed-windows` and a warning names its frames;
-/// a numerically hard clip never throws.
-///
-/// Ipopt is not thread-safe: every solve is serialised by a process-wide mutex (src/refine).
+/// Replaces the windowed Ipopt NLP (still available as `refine-ipopt` for ablation), which held the
+/// stance only at collocation knots and took 98 % of a 30 fps conversion.
 
 #include "retarget/pipeline/pass.hpp"
 
 namespace rt {
 
 struct RefineOptions {
-  double knot_fps = 30.0;            ///< [Hz] knot rate; stride = max(1, round(source fps / knot_fps))
-  int window = 96;                   ///< control points per window
-  int overlap = 8;                   ///< control points shared by consecutive windows (>= 3; 3 are pinned)
-  double acceleration_weight = 1e-6; ///< weight of |ẍ|² per control point [(rad/s²)⁻², (m/s²)⁻²], vs landmark weight 1 per m²
-  double pull_weight = 1e-3;         ///< weight of |x − x_IK|² per collocation frame (rad², m²)
-  double interpolated_weight = 0.5;  ///< weight factor of gap-filled landmark samples (as ik)
-  double stance_weight = 1.0;        ///< weight factor of foot landmarks in stance (the constraints hold the feet)
-  double velocity_margin = 0.02;     ///< fraction of each URDF velocity limit kept free (>= 0.001: solver tolerance)
-  double velocity_activation = 0.5;  ///< velocity rows enter the NLP when the guess uses this much of them (or a solve violates them)
+  double smoothing_hz = 6.0;         ///< [Hz] cutoff (half amplitude) of the joint-space smoother; 0 disables smoothing
+  double robust_threshold = 3.0;     ///< [σ] samples this far from the smoothed curve are weighted down (Huber); 0: plain
+  double velocity_margin = 0.02;     ///< fraction of each joint speed limit kept free
+  double max_joint_speed = 0;        ///< [rad/s] optional cap on every joint's speed below its URDF limit (0: none)
   double limit_margin = 1e-4;        ///< [rad, m] distance kept from the joint position limits
-  double floor_check_height = 0.15;  ///< [m] swing-foot corners below this (initial guess) get z >= 0
-  int max_iterations = 300;          ///< Ipopt iterations per window (100 left a window of the Bandai dance unsolved)
-  double tolerance = 1e-6;           ///< Ipopt tol
-  double mu_init = 1e-3;             ///< Ipopt initial barrier parameter (small: the start is good)
+  double swing_clearance_m = 0.015;  ///< [m] swing soles stay this high beyond swing_guard of lift-off and touchdown
+  double swing_guard_s = 0.1;        ///< [s]
+  double stance_weight = 1e6;        ///< weight of a sole's position target [1/m²] (orientation: × (0.1 m)²)
+  double swing_weight = 1e3;         ///< weight of a swing sole's target [1/m²]
+  double floor_weight = 1e6;         ///< weight of a collision point below its floor height [1/m²]
+  int rounds = 3;                    ///< smooth + project rounds at most
+  int max_iterations = 30;           ///< projection iterations per frame
+  bool landmark_metric = true;       ///< weigh the foot correction by the landmark cost's Gauss–Newton matrix
 };
 
 class RefinePass final : public Pass {
@@ -60,7 +57,8 @@ class RefinePass final : public Pass {
   RefinePass();
   std::string name() const override { return "refine"; }
   std::string description() const override {
-    return "windowed trajectory NLP (Ipopt): smooth, velocity limits, feet fixed in stance, no floor penetration";
+    return "smooth within position/speed limits, then hold stance soles fixed and flat on every frame, swing soles clear, "
+           "nothing below the floor";
   }
   OptionTable& options() override { return table_; }
   void run(Clip& clip, PassContext& context) override;

@@ -1,10 +1,17 @@
-// Benchmark of the conversion pipeline (design.md §7, issue 4): source frames per second of the
-// per-frame path (retime, scale, label-contacts, ik, flat-contact) and of the full default pipeline,
-// single thread, on a real clip. Usage: bench_convert [robot] [clip] [runs]
-// Defaults: g1 and ../shared/data/bvh/cmu_max_131_01_start_walk_stop.bvh, 5 runs.
+// Benchmark of the conversion pipeline (design.md §7, issues 4 and 13): source frames per second of
+// the per-frame path (retime, scale, label-contacts, ik, resample), of that path with com-replan,
+// and of the full default pipeline, single thread, on real clips; and the full pipeline's cost as a
+// multiple of the per-frame path measured in the same run (issue 13: at most 10x).
+//
+//   bench_convert [robot] [runs] [clip ...]
+//
+// Defaults: g1, 5 runs, the CMU walk (120 fps, 994 frames) and the LAFAN1 dance
+// (30 fps, 3945 frames) from ../shared/data/bvh (clips that are absent are skipped).
 
 #include <cstdio>
+#include <filesystem>
 #include <string>
+#include <vector>
 
 #include "../bench_util.hpp"
 #include "retarget/jobs/convert_job.hpp"
@@ -13,23 +20,39 @@
 int main(int argc, char** argv) {
   using namespace rt;
   const std::string robot = argc > 1 ? argv[1] : "g1";
-  const std::string clip = argc > 2 ? argv[2] : std::string(RT_SHARED_DATA_DIR) + "/bvh/cmu_max_131_01_start_walk_stop.bvh";
-  const int runs = argc > 3 ? std::atoi(argv[3]) : 5;
+  const int runs = argc > 2 ? std::atoi(argv[2]) : 5;
+  std::vector<std::string> clips;
+  for (int i = 3; i < argc; ++i) clips.emplace_back(argv[i]);
+  if (clips.empty())
+    for (const char* name : {"cmu_max_131_01_start_walk_stop.bvh", "lafan1_dance1_subject2.bvh"}) {
+      const std::string path = std::string(RT_SHARED_DATA_DIR) + "/bvh/" + name;
+      if (std::filesystem::exists(path)) clips.push_back(path);
+    }
+  if (runs < 1 || clips.empty()) {
+    std::fprintf(stderr, "bench_convert: usage: bench_convert [robot] [runs >= 1] [clip ...] (no clip found)\n");
+    return 2;
+  }
   try {
     const auto model = RobotModel::load(robot);
-    for (const auto& [label, passes] : {std::pair<const char*, const char*>{"per-frame path (retime, scale, label-contacts, ik, flat-contact)",
-                                                                           "retime,scale,label-contacts,ik,flat-contact"},
-                                        std::pair<const char*, const char*>{"per-frame path + com-replan",
-                                                                           "retime,scale,label-contacts,ik,flat-contact,ground,com-replan"},
-                                        std::pair<const char*, const char*>{"full default pipeline", ""}}) {
-      ConvertRequest request;
-      request.clip_path = clip;
-      request.passes = passes;
-      request.write_outputs = false;
-      int frames = 0;
-      const auto times = bench::time_runs(runs, [&] { frames = run_convert(request, *model).clip.human.num_frames; });
-      const double t = bench::median(times);
-      std::printf("%-70s %6d frames  median %8.1f ms  %9.0f source frames/s  (%d runs)\n", label, frames, t * 1e3, frames / t, runs);
+    for (const std::string& clip : clips) {
+      std::printf("%s on %s\n", std::filesystem::path(clip).filename().c_str(), robot.c_str());
+      double per_frame_s = 0;
+      for (const auto& [label, passes] : {std::pair<const char*, const char*>{"per-frame path (retime, scale, label-contacts, ik, resample)",
+                                                                             "retime,scale,label-contacts,ik,resample"},
+                                          std::pair<const char*, const char*>{"per-frame path + flat-contact, ground, com-replan",
+                                                                             "retime,scale,label-contacts,ik,flat-contact,ground,com-replan,resample"},
+                                          std::pair<const char*, const char*>{"full default pipeline", ""}}) {
+        ConvertRequest request;
+        request.clip_path = clip;
+        request.passes = passes;
+        request.write_outputs = false;
+        int frames = 0;
+        const auto times = bench::time_runs(runs, [&] { frames = run_convert(request, *model).clip.human.num_frames; });
+        const double t = bench::median(times);
+        if (per_frame_s == 0) per_frame_s = t;
+        std::printf("  %-58s %6d frames  median %8.1f ms  %9.0f source frames/s  %5.1fx the per-frame path  (%d runs)\n", label,
+                    frames, t * 1e3, frames / t, t / per_frame_s, runs);
+      }
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bench_convert: %s\n", e.what());

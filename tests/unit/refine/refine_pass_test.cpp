@@ -4,6 +4,8 @@
 
 #include "refine_test_util.hpp"
 #include "retarget/core/error.hpp"
+#include "retarget/core/strings.hpp"
+#include "retarget/model/collision_hull.hpp"
 
 namespace rt {
 namespace {
@@ -19,19 +21,21 @@ PassRun run_refine(Clip& clip, const RobotModel& model, const std::string& optio
   PassRun out;
   RobotData data(model);
   RefinePass pass;
-  if (!options.empty()) {
-    std::size_t pos = 0;
-    while (pos < options.size()) {
-      std::size_t end = options.find(',', pos);
-      if (end == std::string::npos) end = options.size();
-      const std::string kv = options.substr(pos, end - pos);
-      pass.options().set(kv.substr(0, kv.find('=')), kv.substr(kv.find('=') + 1), "refine");
-      pos = end + 1;
-    }
-  }
+  for (const std::string& kv : split(options, ","))
+    if (!kv.empty()) pass.options().set(kv.substr(0, kv.find('=')), kv.substr(kv.find('=') + 1), "refine");
   PassContext ctx{&model, &data, out.statistics, out.diagnostics};
   pass.run(clip, ctx);
   return out;
+}
+
+// The stance bars of issue 13 on every frame of the (source-rate) motion.
+void expect_stance_held(const QualityMetrics& q) {
+  EXPECT_LE(q.foot_skating_max_m, 1e-3);
+  EXPECT_LE(q.heel_skating_max_m, 1e-3);
+  EXPECT_LE(q.stance_yaw_drift_max_deg, 0.5);
+  EXPECT_LE(q.stance_tilt_max_deg, 0.5);
+  EXPECT_LE(q.stance_height_max_m, 1e-3);
+  EXPECT_GE(q.lowest_point_m, -2e-3);
 }
 
 // Ground truth known: noisy per-frame "IK" with a velocity spike, both feet planted.
@@ -44,20 +48,21 @@ TEST(RefinePass, SyntheticClipRecoversASmoothFeasibleMotion) {
   ASSERT_GT(before.velocity_limit_violations, 0);  // the injected jump
 
   const PassRun r = run_refine(clip, model);
-  EXPECT_EQ(r.statistics.get("failed-windows", -1), 0);
   EXPECT_GT(r.statistics.get("velocity-violations-before"), 0);
   EXPECT_EQ(r.statistics.get("velocity-violations-after", -1), 0);
+  EXPECT_EQ(r.statistics.get("frames-stance-not-held", -1), 0);
   const QualityMetrics q = compute_quality(model, data, clip);
   EXPECT_EQ(q.position_limit_violations, 0);
   EXPECT_EQ(q.velocity_limit_violations, 0);
-  EXPECT_LT(q.foot_skating_p95_m, 1e-3);
-  EXPECT_LT(q.foot_skating_max_m, 2e-3);
+  expect_stance_held(q);
   EXPECT_LT(q.penetration_max_m, 1e-3);
   EXPECT_LT(q.frame0_sole_tilt_deg, 0.1);
   EXPECT_LT(std::abs(q.frame0_sole_height_m), 1e-4);
-  EXPECT_LT(q.jitter_rad_s3, 0.01 * before.jitter_rad_s3);
+  // The joint noise passes the 6 Hz smoother in part (the exact landmark targets of this synthetic
+  // clip are not used by refine): about 1.3 % of the input's jitter is left.
+  EXPECT_LT(q.jitter_rad_s3, 0.02 * before.jitter_rad_s3);
+  // Closer to the exact targets than the noisy input, and to the ground truth.
   EXPECT_LT(q.landmark_error_median_m, 0.01);
-  // Tracks the exact targets better than the noisy input does, and stays near the ground truth.
   EXPECT_LT(q.landmark_error_median_m, before.landmark_error_median_m);
   double worst = 0;
   for (int f = 0; f < clip.motion.num_frames(); ++f)
@@ -65,68 +70,59 @@ TEST(RefinePass, SyntheticClipRecoversASmoothFeasibleMotion) {
   EXPECT_LT(worst, 0.1);  // rad: the 0.8 rad jump is gone
 }
 
-TEST(RefinePass, FailedWindowsFallBackWithoutThrowing) {
+// A stance foot that slides and turns in the input is fixed in the output; the robot is kept above
+// the floor where the input pushes a hand through it.
+TEST(RefinePass, FixesSlidingTurningFeetAndLiftsWhatIsBelowTheFloor) {
   const RobotModel& model = robot("humanoid25");
-  Clip clip = test::synthetic_clip(model);
-  const PassRun r = run_refine(clip, model, "max_iterations=1");
-  EXPECT_GT(r.statistics.get("failed-windows"), 0);
-  bool warned = false;
-  for (const Diagnostic& d : r.diagnostics.items()) warned = warned || d.to_string().find("not solved") != std::string::npos;
-  EXPECT_TRUE(warned);
-  EXPECT_TRUE(clip.motion.q.allFinite());
+  Clip clip = test::synthetic_clip(model, nullptr, 120, 60);
+  const int T = clip.motion.num_frames();
+  // The whole robot slides 4 cm and turns 10 deg over the clip, its feet with it.
+  for (int f = 0; f < T; ++f) {
+    const double s = static_cast<double>(f) / (T - 1);
+    clip.motion.q(0, f) += 0.04 * s;
+    const Quat turn(AngleAxis(0.17 * s, Vec3::UnitZ()));
+    const Quat R = (turn * Quat(clip.motion.q(3, f), clip.motion.q(4, f), clip.motion.q(5, f), clip.motion.q(6, f))).normalized();
+    clip.motion.q.block<4, 1>(3, f) << R.w(), R.x(), R.y(), R.z();
+  }
+  // A shoulder swung down so far that the hand goes under the floor in the middle frames.
+  const int shoulder = model.joints()[static_cast<std::size_t>(model.joint_index("l_shoulder_roll"))].qpos_index;
   RobotData data(model);
-  EXPECT_EQ(compute_quality(model, data, clip).position_limit_violations, 0);
-}
-
-TEST(RefinePass, WindowsOverlapAndHandOver) {
-  const RobotModel& model = robot("humanoid25");
-  Clip one = test::synthetic_clip(model), many = one;
-  const PassRun a = run_refine(one, model);
-  const PassRun b = run_refine(many, model, "window=20,overlap=6");
-  EXPECT_EQ(a.statistics.get("windows"), 1);
-  EXPECT_GE(b.statistics.get("windows"), 3);
-  EXPECT_EQ(b.statistics.get("failed-windows", -1), 0);
-  RobotData data(model);
-  const QualityMetrics q = compute_quality(model, data, many);
+  double lowest_before = INFINITY;
+  for (int f = 40; f < 80; ++f) {
+    clip.motion.q(shoulder, f) = model.q_upper()[shoulder - 7] - 0.01;
+    clip.motion.q(2, f) -= 0.5;  // and the whole robot sunk (the IK of a kneel can do that)
+    update_kinematics(model, data, clip.motion.q.col(f));
+    lowest_before = std::min(lowest_before, lowest_collision_point(model, data).z_m);
+  }
+  ASSERT_LT(lowest_before, -0.1);
+  const PassRun r = run_refine(clip, model);
+  EXPECT_EQ(r.statistics.get("frames-stance-not-held", -1), 0);
+  const QualityMetrics q = compute_quality(model, data, clip);
+  expect_stance_held(q);
   EXPECT_EQ(q.velocity_limit_violations, 0);
-  EXPECT_LT(q.foot_skating_p95_m, 1e-3);
-  // Jitter stays low across the junctions (the hand-over is C²).
-  EXPECT_LT(q.jitter_rad_s3, 0.01 * q.jitter_per_frame_ik_rad_s3);
 }
 
-TEST(RefinePass, SkipsWhatItCannotRefine) {
+TEST(RefinePass, SlowStepsExampleHoldsEveryStanceAndClearsEverySwing) {
   const RobotModel& model = robot("humanoid25");
-  Clip short_clip = test::synthetic_clip(model, nullptr, 3);
-  const MatX q_short = short_clip.motion.q;
-  EXPECT_EQ(run_refine(short_clip, model).statistics.get("skipped"), 1);
-  EXPECT_EQ(short_clip.motion.q, q_short);
-
-  Clip upside_down = test::synthetic_clip(model, nullptr, 30);
-  const Quat flip(AngleAxis(M_PI, Vec3::UnitX()));
-  for (int f = 0; f < 30; ++f) upside_down.motion.q.block<4, 1>(3, f) << flip.w(), flip.x(), flip.y(), flip.z();
-  const MatX q_flip = upside_down.motion.q;
-  const PassRun r = run_refine(upside_down, model);
-  EXPECT_EQ(r.statistics.get("skipped"), 1);
-  EXPECT_EQ(r.diagnostics.items().size(), 1u);
-  EXPECT_EQ(upside_down.motion.q, q_flip);
+  const test::Converted c = test::convert(model, test::source_path("examples/clips/slow_steps.bvh"), 0,
+                                          "scale,label-contacts,ik,flat-contact,refine,ground,resample");
+  test::expect_refine_acceptance(c);
+  expect_stance_held(c.quality);
+  EXPECT_EQ(c.quality.swing_frames_low, 0);
+  EXPECT_GE(c.quality.swing_clearance_min_m, 0.015 - 1e-4);
+  EXPECT_EQ(c.quality.frames_without_stance, 0);
+  EXPECT_LT(c.quality.landmark_error_median_m, 0.05);
 }
 
-TEST(RefinePass, RejectsBadOptions) {
+TEST(RefinePass, RejectsBadOptionsAndAMissingIk) {
   const RobotModel& model = robot("humanoid25");
-  for (const char* bad : {"window=4", "overlap=2", "overlap=96", "knot_fps=0", "velocity_margin=1", "max_iterations=0"}) {
+  for (const char* bad : {"velocity_margin=1", "smoothing_hz=-1", "rounds=0", "max_iterations=0", "swing_clearance=-0.1",
+                          "stance_weight=0"}) {
     Clip clip = test::synthetic_clip(model, nullptr, 20);
     EXPECT_THROW(run_refine(clip, model, bad), InputError) << bad;
   }
-  RefinePass pass;
-  EXPECT_THROW(pass.options().set("no_such_option", "1", "refine"), InputError);
-}
-
-// The project's own example clip (always available): every acceptance metric after refine + ground.
-TEST(RefinePass, SlowStepsExampleMeetsTheAcceptanceMetrics) {
-  const RobotModel& model = robot("humanoid25");
-  const test::Converted c = test::convert(model, test::source_path("examples/clips/slow_steps.bvh"));
-  test::expect_refine_acceptance(c);
-  EXPECT_LT(c.quality.landmark_error_median_m, 0.05);
+  Clip empty;
+  EXPECT_THROW(run_refine(empty, model), InputError);
 }
 
 }  // namespace

@@ -1,5 +1,5 @@
 // Walking clips from the shared data (skipped when absent) on humanoid25 and G1: the acceptance
-// metrics of issue 4 after refine + ground (design.md §6 definitions, quality.hpp).
+// metrics of issues 4 and 13 after refine + ground (design.md §6 definitions, quality.hpp).
 
 #include <gtest/gtest.h>
 
@@ -18,9 +18,8 @@ void expect_acceptance(const std::string& robot, const std::string& relative, in
 }
 
 TEST(RefineRealData, CmuWalkG1) { expect_acceptance("g1", "bvh/cmu_max_131_01_start_walk_stop.bvh"); }
-TEST(RefineRealData, CmuWalkHumanoid25FirstFourSeconds) {
-  expect_acceptance("humanoid25", "bvh/cmu_max_131_01_start_walk_stop.bvh", 480);
-}
+// (The first four seconds of the CMU walk on humanoid25, cut mid-swing, used to be a case here; the
+// whole clip on humanoid25 is one of ConvertSharedData's cases, with every bar but swing clearance.)
 TEST(RefineRealData, Games105WalkTurnG1) { expect_acceptance("g1", "bvh/games105_walk_and_turn_left.bvh"); }
 TEST(RefineRealData, BandaiWalkTurnHumanoid25) { expect_acceptance("humanoid25", "bvh/bandai2_walk-turn-left_normal_001.bvh"); }
 

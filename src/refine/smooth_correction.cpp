@@ -1,0 +1,334 @@
+#include "src/refine/smooth_correction.hpp"
+
+#include <mujoco/mujoco.h>
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+
+#include "retarget/model/collision_hull.hpp"
+#include "retarget/model/kinematics.hpp"
+#include "retarget/model/robot_model.hpp"
+
+namespace rt::refine {
+
+namespace {
+
+// One weighted residual row r + J δ, J over the dofs `cols` (indices into v).
+struct Row {
+  double weight = 0;
+  double residual = 0;
+  double cost = -1;  ///< its share of the cost when not ½ w r² (the rows of a floor penalty)
+  std::vector<int> cols;
+  std::vector<double> jac;
+};
+
+Vec3 rotation_log(const Mat3& R) {
+  const AngleAxis aa(R);
+  return aa.angle() * aa.axis();
+}
+
+}  // namespace
+
+bool solve_block_pentadiagonal(std::vector<MatX> D, std::vector<MatX> E, std::vector<MatX> F, std::vector<VecX>& b) {
+  const std::size_t T = D.size();
+  if (T == 0) return true;
+  const Eigen::Index n = D[0].rows();
+  // L blocks: Ld[f] = L(f, f) lower triangular, L1[f] = L(f, f−1), L2[f] = L(f, f−2).
+  std::vector<MatX> Ld(T), L1(T), L2(T);
+  auto times_inverse_transpose = [](const MatX& X, const MatX& L) -> MatX {  // X L⁻ᵀ
+    return L.triangularView<Eigen::Lower>().solve(X.transpose()).transpose();
+  };
+  for (std::size_t f = 0; f < T; ++f) {
+    MatX S = D[f];
+    if (f >= 2) {
+      L2[f] = times_inverse_transpose(F[f - 2], Ld[f - 2]);
+      S.noalias() -= L2[f] * L2[f].transpose();
+    }
+    if (f >= 1) {
+      MatX A = E[f - 1];
+      if (f >= 2) A.noalias() -= L2[f] * L1[f - 1].transpose();
+      L1[f] = times_inverse_transpose(A, Ld[f - 1]);
+      S.noalias() -= L1[f] * L1[f].transpose();
+    }
+    Eigen::LLT<MatX> llt(S);
+    if (llt.info() != Eigen::Success) return false;
+    Ld[f] = llt.matrixL();
+  }
+  for (std::size_t f = 0; f < T; ++f) {  // L y = b
+    if (f >= 1) b[f].noalias() -= L1[f] * b[f - 1];
+    if (f >= 2) b[f].noalias() -= L2[f] * b[f - 2];
+    Ld[f].triangularView<Eigen::Lower>().solveInPlace(b[f]);
+  }
+  for (std::size_t f = T; f-- > 0;) {  // Lᵀ x = y
+    if (f + 1 < T) b[f].noalias() -= L1[f + 1].transpose() * b[f + 1];
+    if (f + 2 < T) b[f].noalias() -= L2[f + 2].transpose() * b[f + 2];
+    Ld[f].transpose().triangularView<Eigen::Upper>().solveInPlace(b[f]);
+  }
+  (void)n;
+  return true;
+}
+
+MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const MatX& q_base, const MatX& q_start,
+                             const FootPlan& plan, const CorrectionOptions& o, CorrectionReport* report) {
+  const int T = static_cast<int>(q_base.cols()), nv = model.nv();
+  const mjModel* m = model.mj();
+  MatX Delta(nv, T);
+  for (int f = 0; f < T; ++f) Delta.col(f) = difference(model, q_base.col(f), q_start.col(f), 1.0);
+  CorrectionReport rep;
+  if (T == 0) return q_base;
+  std::vector<std::vector<int>> chain_of(model.links().size());
+  auto chain = [&](int link) -> const std::vector<int>& {
+    auto& c = chain_of[static_cast<std::size_t>(link)];
+    if (c.empty()) c = link_dof_chain(model, link);
+    return c;
+  };
+  MatXr jp(3, nv), jr(3, nv);
+  std::vector<std::vector<Row>> rows(static_cast<std::size_t>(T));
+  const bool use_metric = o.metric.size() == static_cast<std::size_t>(T);
+  std::vector<int> metric_index(static_cast<std::size_t>(nv), -1);
+  for (std::size_t k = 0; k < o.metric_dofs.size(); ++k) metric_index[static_cast<std::size_t>(o.metric_dofs[k])] = static_cast<int>(k);
+  // σ: each coordinate's typical (median) diagonal of M + ρ.
+  VecX sigma = o.stiffness;
+  if (use_metric)
+    for (std::size_t k = 0; k < o.metric_dofs.size(); ++k) {
+      std::vector<double> d;
+      for (const MatX& M : o.metric) d.push_back(M(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(k)));
+      std::nth_element(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(d.size() / 2), d.end());
+      sigma[o.metric_dofs[k]] += d[d.size() / 2];
+    }
+  // Δ restricted to the metric coordinates at frame f.
+  auto metric_part = [&](const MatX& D, int f) {
+    VecX x(static_cast<Eigen::Index>(o.metric_dofs.size()));
+    for (std::size_t k = 0; k < o.metric_dofs.size(); ++k) x[static_cast<Eigen::Index>(k)] = D(o.metric_dofs[k], f);
+    return x;
+  };
+  std::vector<FloorPenalty> penalties;
+  VecX q(model.nq());
+
+  // Rows at Δ = D, the coordinates they move, and the cost (the header's objective).
+  struct SpeedRow {
+    int frame, dof;    // frames frame and frame + 1, velocity coordinate dof (a joint)
+    double residual;   // [rad per frame] beyond the limit
+  };
+  auto evaluate = [&](const MatX& D, std::vector<std::vector<Row>>& rows_out, std::vector<std::uint8_t>& used,
+                      std::vector<SpeedRow>& speed_out) {
+    speed_out.clear();
+  used.assign(static_cast<std::size_t>(nv), 0);
+  for (int foot = 0; foot < 2; ++foot)
+    for (int d : chain(model.soles()[static_cast<std::size_t>(foot)].link)) used[static_cast<std::size_t>(d)] = 1;
+  for (int f = 0; f < T; ++f) {
+    auto& fr = rows_out[static_cast<std::size_t>(f)];
+    fr.clear();
+    q = integrate(model, q_base.col(f), D.col(f), 1.0);
+    update_kinematics(model, data, q);
+    std::array<int, 2> skip{{-1, -1}};
+    std::vector<std::pair<int, double>> min_height;
+    for (int foot = 0; foot < 2; ++foot) {
+      const auto k = static_cast<std::size_t>(foot);
+      const FootTarget& t = plan.feet[k][static_cast<std::size_t>(f)];
+      const Sole& sole = model.soles()[k];
+      if (t.mode == FootMode::Stance) skip[k] = sole.link;
+      else min_height.emplace_back(sole.link, t.min_height_m);
+      if (t.mode == FootMode::Free) continue;
+      const double blend = t.mode == FootMode::Stance ? 1.0 : t.end_blend;
+      const double w = o.swing_weight + (o.stance_weight - o.swing_weight) * blend;
+      const double len = o.swing_length_m + (o.stance_length_m - o.swing_length_m) * blend;
+      const Iso3 X = link_pose(model, data, sole.link);
+      const Vec3 p = X * sole.p_L_center;
+      const Vec3 e_p = p - t.pose.p_W;
+      const Vec3 e_o = rotation_log(X.linear() * o.R_L_sole[k] * t.pose.R_W.transpose());
+      mj_jac(m, data.mj(), jp.data(), jr.data(), p.data(), model.links()[static_cast<std::size_t>(sole.link)].body);
+      const std::vector<int>& cols = chain(sole.link);
+      for (int r = 0; r < 6; ++r) {
+        Row row;
+        row.weight = r < 3 ? w : w * len * len;
+        row.residual = r < 3 ? e_p[r] : e_o[r - 3];
+        row.cols = cols;
+        for (int c : cols) row.jac.push_back(r < 3 ? jp(r, c) : jr(r - 3, c));
+        fr.push_back(std::move(row));
+      }
+    }
+    for (int i = 0; i < model.nu(); ++i) {
+      const double v = q[7 + i];
+      const double excess = v > o.q_upper[i] ? v - o.q_upper[i] : (v < o.q_lower[i] ? v - o.q_lower[i] : 0.0);
+      if (excess == 0) continue;
+      Row row;
+      row.weight = o.limit_weight;
+      row.residual = excess;
+      row.cols = {6 + i};
+      row.jac = {1.0};
+      used[static_cast<std::size_t>(6 + i)] = 1;
+      fr.push_back(std::move(row));
+    }
+    penalties.clear();
+    floor_penalties(model, data, o.floor_weight, min_height, skip, penalties);
+    for (const FloorPenalty& pen : penalties) {
+      // Three rows R = Lᵀ B with residuals L⁻¹ m (M = L Lᵀ) give the same normal equations.
+      mj_jac(m, data.mj(), jp.data(), jr.data(), pen.p_W_origin.data(), model.links()[static_cast<std::size_t>(pen.link)].body);
+      const Eigen::LLT<Mat3> llt(pen.M + 1e-12 * Mat3::Identity());
+      const Mat3 L = llt.matrixL();
+      const Vec3 res = L.triangularView<Eigen::Lower>().solve(pen.m);
+      const std::vector<int>& cols = chain(pen.link);
+      for (int r = 0; r < 3; ++r) {
+        Row row;
+        row.weight = 1;
+        row.residual = res[r];
+        row.cols = cols;
+        for (int c : cols) {
+          const Vec3 bc(jp(2, c), jr(0, c), jr(1, c));
+          row.jac.push_back(L.col(r).dot(bc));
+          used[static_cast<std::size_t>(c)] = 1;
+        }
+        row.cost = r == 0 ? pen.cost : 0.0;
+        fr.push_back(std::move(row));
+      }
+    }
+  }
+    if (o.max_step.size() == model.nu())
+      for (int f = 0; f + 1 < T; ++f)
+        for (int i = 0; i < model.nu(); ++i) {
+          const double lim = o.max_step[i];
+          if (!(lim > 0)) continue;
+          const double step = q_base(7 + i, f + 1) + D(6 + i, f + 1) - q_base(7 + i, f) - D(6 + i, f);
+          if (std::abs(step) <= lim) continue;
+          speed_out.push_back({f, 6 + i, step - std::copysign(lim, step)});
+          used[static_cast<std::size_t>(6 + i)] = 1;
+        }
+    double cost = 0;
+    for (const SpeedRow& r : speed_out) cost += 0.5 * o.limit_weight * r.residual * r.residual;
+    for (const auto& fr : rows_out)
+      for (const Row& row : fr) cost += row.cost >= 0 ? row.cost : 0.5 * row.weight * row.residual * row.residual;
+    for (int f = 0; f < T; ++f) {
+      cost += 0.5 * D.col(f).dot(o.stiffness.cwiseProduct(D.col(f)));
+      if (use_metric) {
+        const VecX x = metric_part(D, f);
+        cost += 0.5 * x.dot(o.metric[static_cast<std::size_t>(f)] * x);
+      }
+      if (o.lambda > 0 && f >= 1 && f + 1 < T) {
+        const VecX d2 = D.col(f - 1) - 2 * D.col(f) + D.col(f + 1);
+        cost += 0.5 * o.lambda * d2.dot(sigma.cwiseProduct(d2));
+      }
+    }
+    return cost;
+  };
+  std::vector<std::uint8_t> used, used_try;
+  std::vector<std::vector<Row>> rows_try(static_cast<std::size_t>(T));
+  std::vector<SpeedRow> speed, speed_try;
+  double cost = evaluate(Delta, rows, used, speed);
+  for (int it = 0; it < o.iterations; ++it) {
+    std::vector<int> vars, index(static_cast<std::size_t>(nv), -1);
+    for (int d = 0; d < nv; ++d)
+      if (used[static_cast<std::size_t>(d)]) {
+        index[static_cast<std::size_t>(d)] = static_cast<int>(vars.size());
+        vars.push_back(d);
+      }
+    const auto n = static_cast<Eigen::Index>(vars.size());
+    VecX rho(n), sig(n);
+    for (Eigen::Index a = 0; a < n; ++a) {
+      rho[a] = o.stiffness[vars[static_cast<std::size_t>(a)]];
+      sig[a] = sigma[vars[static_cast<std::size_t>(a)]];
+    }
+
+    // Normal equations: H = Σ w JᵀJ + ρ + λ ρ DᵀD, g = Σ w Jᵀ r + ρ Δ + λ ρ DᵀD Δ.
+    std::vector<MatX> Dblk(static_cast<std::size_t>(T), MatX::Zero(n, n)), Eblk, Fblk;
+    std::vector<VecX> b(static_cast<std::size_t>(T), VecX::Zero(n));
+    auto dd = [&](int f, int g) {  // (DᵀD)(f, g) of the second-difference operator over T frames
+      double s = 0;
+      for (int k = std::max(1, std::max(f, g) - 1); k <= std::min(T - 2, std::min(f, g) + 1); ++k) {
+        const auto coeff = [&](int x) { return x == k ? -2.0 : (std::abs(x - k) == 1 ? 1.0 : 0.0); };
+        s += coeff(f) * coeff(g);
+      }
+      return s;
+    };
+    VecX Df(n);
+    for (int f = 0; f < T; ++f) {
+      MatX& H = Dblk[static_cast<std::size_t>(f)];
+      VecX& g = b[static_cast<std::size_t>(f)];
+      for (const Row& row : rows[static_cast<std::size_t>(f)]) {
+        for (std::size_t a = 0; a < row.cols.size(); ++a) {
+          const int ia = index[static_cast<std::size_t>(row.cols[a])];
+          g[ia] += row.weight * row.jac[a] * row.residual;
+          for (std::size_t c = 0; c < row.cols.size(); ++c)
+            H(ia, index[static_cast<std::size_t>(row.cols[c])]) += row.weight * row.jac[a] * row.jac[c];
+        }
+      }
+      for (Eigen::Index a = 0; a < n; ++a) Df[a] = Delta(vars[static_cast<std::size_t>(a)], f);
+      H.diagonal() += rho;
+      g += rho.cwiseProduct(Df);
+      if (use_metric) {
+        const MatX& M = o.metric[static_cast<std::size_t>(f)];
+        const VecX Mx = M * metric_part(Delta, f);
+        for (Eigen::Index a = 0; a < n; ++a) {
+          const int ka = metric_index[static_cast<std::size_t>(vars[static_cast<std::size_t>(a)])];
+          if (ka < 0) continue;
+          g[a] += Mx[ka];
+          for (Eigen::Index c = 0; c < n; ++c) {
+            const int kc = metric_index[static_cast<std::size_t>(vars[static_cast<std::size_t>(c)])];
+            if (kc >= 0) H(a, c) += M(ka, kc);
+          }
+        }
+      }
+      if (o.lambda > 0) {
+        H.diagonal() += o.lambda * dd(f, f) * sig;
+        VecX smooth = VecX::Zero(n);
+        for (int h = std::max(0, f - 2); h <= std::min(T - 1, f + 2); ++h) {
+          const double c = dd(f, h);
+          if (c == 0) continue;
+          for (Eigen::Index a = 0; a < n; ++a) smooth[a] += c * Delta(vars[static_cast<std::size_t>(a)], h);
+        }
+        g += o.lambda * sig.cwiseProduct(smooth);
+      }
+      g = -g;
+    }
+    Eblk.assign(static_cast<std::size_t>(std::max(0, T - 1)), MatX::Zero(n, n));
+    Fblk.assign(static_cast<std::size_t>(std::max(0, T - 2)), MatX::Zero(n, n));
+    if (o.lambda > 0) {
+      for (int f = 0; f + 1 < T; ++f) Eblk[static_cast<std::size_t>(f)].diagonal() = o.lambda * dd(f + 1, f) * sig;
+      for (int f = 0; f + 2 < T; ++f) Fblk[static_cast<std::size_t>(f)].diagonal() = o.lambda * dd(f + 2, f) * sig;
+    }
+    // Speed rows: residual r = (Δ_f+1 − Δ_f) + ... beyond the limit, Jacobian (−1, +1).
+    for (const SpeedRow& r : speed) {
+      const int a = index[static_cast<std::size_t>(r.dof)];
+      const auto f = static_cast<std::size_t>(r.frame);
+      Dblk[f](a, a) += o.limit_weight;
+      Dblk[f + 1](a, a) += o.limit_weight;
+      Eblk[f](a, a) -= o.limit_weight;
+      b[f][a] += o.limit_weight * r.residual;
+      b[f + 1][a] -= o.limit_weight * r.residual;
+    }
+    if (!solve_block_pentadiagonal(std::move(Dblk), std::move(Eblk), std::move(Fblk), b)) break;
+    // Backtracking on the cost: the one-sided rows change their active set between steps.
+    double alpha = 1, step = 0;
+    bool accepted = false;
+    MatX Delta_try = Delta;
+    for (int k = 0; k < 5 && !accepted; ++k, alpha *= 0.5) {
+      step = 0;
+      for (int f = 0; f < T; ++f)
+        for (Eigen::Index a = 0; a < n; ++a) {
+          const double d = alpha * b[static_cast<std::size_t>(f)][a];
+          Delta_try(vars[static_cast<std::size_t>(a)], f) = Delta(vars[static_cast<std::size_t>(a)], f) + d;
+          step = std::max(step, std::abs(d));
+        }
+      const double cost_try = evaluate(Delta_try, rows_try, used_try, speed_try);
+      if (cost_try < cost) {
+        accepted = true;
+        cost = cost_try;
+        Delta.swap(Delta_try);
+        rows.swap(rows_try);
+        used.swap(used_try);
+        speed.swap(speed_try);
+      }
+    }
+    rep.iterations = it + 1;
+    rep.coordinates = static_cast<int>(n);
+    rep.max_step = step;
+    if (!accepted || step < 1e-6) break;
+  }
+  MatX out(model.nq(), T);
+  for (int f = 0; f < T; ++f) out.col(f) = integrate(model, q_base.col(f), Delta.col(f), 1.0);
+  if (report) *report = rep;
+  return out;
+}
+
+}  // namespace rt::refine
