@@ -151,7 +151,7 @@ FootPlan plan_feet(const std::vector<SoleAnchor>& anchors, const std::array<std:
                                               ? AngleAxis(E * tilt_log.norm(), tilt_log.normalized()).toRotationMatrix()
                                               : Mat3::Identity());
         t.pose.p_W.z() = E * smooth_max(h, o.clearance_m + 0.003, 0.01) - lowest_corner_offset(t.pose.R_W, size);
-        t.min_height_m = (o.clearance_m + 0.001) * E;  // 1 mm over: the floor rows are penalties
+        t.min_height_m = (o.clearance_m + 0.002) * E;  // 2 mm over: the floor rows are penalties
         t.end_blend = 1 - E;
       }
       a = b;

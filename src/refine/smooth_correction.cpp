@@ -14,12 +14,19 @@ namespace rt::refine {
 
 namespace {
 
-// One weighted residual row r + J δ, J over the dofs `cols` (indices into v).
+// One weighted residual row r + J δ, J over the `ncols` dofs at `cols` (indices into v; stable
+// storage: a link's chain or the identity list), its entries at `jac` in the frame's buffer.
 struct Row {
   double weight = 0;
   double residual = 0;
   double cost = -1;  ///< its share of the cost when not ½ w r² (the rows of a floor penalty)
-  std::vector<int> cols;
+  const int* cols = nullptr;
+  std::size_t ncols = 0, jac = 0;
+};
+
+// The rows of one frame; cleared and refilled at every evaluation without allocating.
+struct FrameRows {
+  std::vector<Row> rows;
   std::vector<double> jac;
 };
 
@@ -84,7 +91,9 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
     return c;
   };
   MatXr jp(3, nv), jr(3, nv);
-  std::vector<std::vector<Row>> rows(static_cast<std::size_t>(T));
+  std::vector<FrameRows> rows(static_cast<std::size_t>(T));
+  std::vector<int> dof_ids(static_cast<std::size_t>(nv));
+  for (int d = 0; d < nv; ++d) dof_ids[static_cast<std::size_t>(d)] = d;
   const bool use_metric = o.metric.size() == static_cast<std::size_t>(T);
   std::vector<int> metric_index(static_cast<std::size_t>(nv), -1);
   for (std::size_t k = 0; k < o.metric_dofs.size(); ++k) metric_index[static_cast<std::size_t>(o.metric_dofs[k])] = static_cast<int>(k);
@@ -111,15 +120,17 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
     int frame, dof;    // frames frame and frame + 1, velocity coordinate dof (a joint)
     double residual;   // [rad per frame] beyond the limit
   };
-  auto evaluate = [&](const MatX& D, std::vector<std::vector<Row>>& rows_out, std::vector<std::uint8_t>& used,
+  auto evaluate = [&](const MatX& D, std::vector<FrameRows>& rows_out, std::vector<std::uint8_t>& used,
                       std::vector<SpeedRow>& speed_out) {
     speed_out.clear();
+    ++rep.evaluations;
   used.assign(static_cast<std::size_t>(nv), 0);
   for (int foot = 0; foot < 2; ++foot)
     for (int d : chain(model.soles()[static_cast<std::size_t>(foot)].link)) used[static_cast<std::size_t>(d)] = 1;
   for (int f = 0; f < T; ++f) {
     auto& fr = rows_out[static_cast<std::size_t>(f)];
-    fr.clear();
+    fr.rows.clear();
+    fr.jac.clear();
     q = integrate(model, q_base.col(f), D.col(f), 1.0);
     update_kinematics(model, data, q);
     std::array<int, 2> skip{{-1, -1}};
@@ -144,9 +155,11 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
         Row row;
         row.weight = r < 3 ? w : w * len * len;
         row.residual = r < 3 ? e_p[r] : e_o[r - 3];
-        row.cols = cols;
-        for (int c : cols) row.jac.push_back(r < 3 ? jp(r, c) : jr(r - 3, c));
-        fr.push_back(std::move(row));
+        row.cols = cols.data();
+        row.ncols = cols.size();
+        row.jac = fr.jac.size();
+        for (int c : cols) fr.jac.push_back(r < 3 ? jp(r, c) : jr(r - 3, c));
+        fr.rows.push_back(row);
       }
     }
     for (int i = 0; i < model.nu(); ++i) {
@@ -156,10 +169,12 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
       Row row;
       row.weight = o.limit_weight;
       row.residual = excess;
-      row.cols = {6 + i};
-      row.jac = {1.0};
+      row.cols = &dof_ids[static_cast<std::size_t>(6 + i)];
+      row.ncols = 1;
+      row.jac = fr.jac.size();
+      fr.jac.push_back(1.0);
       used[static_cast<std::size_t>(6 + i)] = 1;
-      fr.push_back(std::move(row));
+      fr.rows.push_back(row);
     }
     penalties.clear();
     floor_penalties(model, data, o.floor_weight, min_height, skip, penalties);
@@ -174,14 +189,16 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
         Row row;
         row.weight = 1;
         row.residual = res[r];
-        row.cols = cols;
+        row.cols = cols.data();
+        row.ncols = cols.size();
+        row.jac = fr.jac.size();
         for (int c : cols) {
           const Vec3 bc(jp(2, c), jr(0, c), jr(1, c));
-          row.jac.push_back(L.col(r).dot(bc));
+          fr.jac.push_back(L.col(r).dot(bc));
           used[static_cast<std::size_t>(c)] = 1;
         }
         row.cost = r == 0 ? pen.cost : 0.0;
-        fr.push_back(std::move(row));
+        fr.rows.push_back(row);
       }
     }
   }
@@ -198,7 +215,7 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
     double cost = 0;
     for (const SpeedRow& r : speed_out) cost += 0.5 * o.limit_weight * r.residual * r.residual;
     for (const auto& fr : rows_out)
-      for (const Row& row : fr) cost += row.cost >= 0 ? row.cost : 0.5 * row.weight * row.residual * row.residual;
+      for (const Row& row : fr.rows) cost += row.cost >= 0 ? row.cost : 0.5 * row.weight * row.residual * row.residual;
     for (int f = 0; f < T; ++f) {
       cost += 0.5 * D.col(f).dot(o.stiffness.cwiseProduct(D.col(f)));
       if (use_metric) {
@@ -213,7 +230,7 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
     return cost;
   };
   std::vector<std::uint8_t> used, used_try;
-  std::vector<std::vector<Row>> rows_try(static_cast<std::size_t>(T));
+  std::vector<FrameRows> rows_try(static_cast<std::size_t>(T));
   std::vector<SpeedRow> speed, speed_try;
   double cost = evaluate(Delta, rows, used, speed);
   for (int it = 0; it < o.iterations; ++it) {
@@ -245,12 +262,14 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
     for (int f = 0; f < T; ++f) {
       MatX& H = Dblk[static_cast<std::size_t>(f)];
       VecX& g = b[static_cast<std::size_t>(f)];
-      for (const Row& row : rows[static_cast<std::size_t>(f)]) {
-        for (std::size_t a = 0; a < row.cols.size(); ++a) {
+      const FrameRows& fr = rows[static_cast<std::size_t>(f)];
+      for (const Row& row : fr.rows) {
+        const double* jac = fr.jac.data() + row.jac;
+        for (std::size_t a = 0; a < row.ncols; ++a) {
           const int ia = index[static_cast<std::size_t>(row.cols[a])];
-          g[ia] += row.weight * row.jac[a] * row.residual;
-          for (std::size_t c = 0; c < row.cols.size(); ++c)
-            H(ia, index[static_cast<std::size_t>(row.cols[c])]) += row.weight * row.jac[a] * row.jac[c];
+          g[ia] += row.weight * jac[a] * row.residual;
+          for (std::size_t c = 0; c < row.ncols; ++c)
+            H(ia, index[static_cast<std::size_t>(row.cols[c])]) += row.weight * jac[a] * jac[c];
         }
       }
       for (Eigen::Index a = 0; a < n; ++a) Df[a] = Delta(vars[static_cast<std::size_t>(a)], f);
@@ -302,6 +321,7 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
     double alpha = 1, step = 0;
     bool accepted = false;
     MatX Delta_try = Delta;
+    const double cost_before = cost;
     for (int k = 0; k < 5 && !accepted; ++k, alpha *= 0.5) {
       step = 0;
       for (int f = 0; f < T; ++f)
@@ -323,7 +343,8 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
     rep.iterations = it + 1;
     rep.coordinates = static_cast<int>(n);
     rep.max_step = step;
-    if (!accepted || step < 1e-6) break;
+    // Stop when the step is negligible or the cost no longer falls by 1e-6 of itself.
+    if (!accepted || step < 1e-6 || cost_before - cost < 1e-6 * cost_before) break;
   }
   MatX out(model.nq(), T);
   for (int f = 0; f < T; ++f) out.col(f) = integrate(model, q_base.col(f), Delta.col(f), 1.0);

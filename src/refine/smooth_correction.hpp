@@ -43,11 +43,12 @@ struct CorrectionOptions {
   std::vector<int> metric_dofs; ///< coordinates (v order) of the metric blocks
   std::vector<MatX> metric;     ///< M_f per frame over metric_dofs (empty: none)
   std::array<Mat3, 2> R_L_sole{{Mat3::Identity(), Mat3::Identity()}};
-  int iterations = 4;           ///< Gauss–Newton steps at most
+  int iterations = 8;           ///< Gauss–Newton steps at most (it stops earlier once the steps are below 1e-6)
 };
 
 struct CorrectionReport {
   int iterations = 0;
+  int evaluations = 0;          ///< cost evaluations (each a pass over the clip's kinematics)
   int coordinates = 0;          ///< n of the blocks in the last step
   double max_step = 0;          ///< largest |δ| of the last step
 };
