@@ -2,8 +2,8 @@
 // foot before every lift) through the default pipeline and the dynamics check, on humanoid25 and G1.
 // With dynamic mapping (the default) it passes on both. Since the refine pass holds the stance soles
 // flat and fixed on every frame (issue 13), humanoid25 passes without dynamic mapping too (before,
-// it could not lift its right foot off at 7.7 s); G1 without it passes at 1x and falls after about
-// 5 s at 1.1x-1.5x slower (not pinned here: README "What the check finds on real clips").
+// it could not lift its right foot off at 7.7 s); G1 without it falls at 11.1 s at 1x and after
+// about 5 s at 1.1x-1.5x slower (not pinned here: README "What the check finds on real clips").
 // G1 skips cleanly without ../shared/data.
 
 #include <gtest/gtest.h>
