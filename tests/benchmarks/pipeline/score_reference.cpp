@@ -1,0 +1,73 @@
+// Scores an exported reference with the current kinematic metrics (design.md §6, quality.hpp), so
+// that references written by another build (or another tool, with a meta.json contact schedule)
+// can be compared with this one's on the same definitions: foot metrics with the reference's own
+// contact labels, landmark error at the exported frames against the clip's scaled landmarks.
+//
+//   score_reference ROBOT CLIP REFERENCE.csv|.npz [SOURCE_FPS]
+//
+// Prints one line: landmark_median_m drift_max_m heel_drift_max_m yaw_max_deg tilt_max_deg
+// height_max_m lowest_point_m swing_frames_low frames_without_stance velocity_violations (frames x
+// joints at the reference's own rate; the convert summary counts them at the source rate).
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "retarget/model/robot_data.hpp"
+#include "retarget/model/robot_model.hpp"
+#include "retarget/motion/load_motion.hpp"
+#include "retarget/passes/quality.hpp"
+#include "retarget/passes/registry.hpp"
+#include "retarget/pipeline/pipeline.hpp"
+#include "retarget/reference/reference_io.hpp"
+
+int main(int argc, char** argv) {
+  using namespace rt;
+  if (argc < 4) {
+    std::fprintf(stderr, "usage: score_reference ROBOT CLIP REFERENCE [SOURCE_FPS]\n");
+    return 2;
+  }
+  try {
+    const auto model = RobotModel::load(argv[1]);
+    MotionLoadOptions load;
+    if (argc > 4) load.source_fps = std::atof(argv[4]);
+    Clip clip;
+    clip.human = load_motion(argv[2], load);
+    RobotData data(*model);
+    (void)Pipeline::parse("retime,scale", builtin_passes()).run(clip, model.get(), &data);
+    const Reference ref = read_reference(argv[3]);
+    const std::vector<int>& order = model->export_joint_order();
+    const int T = ref.num_frames();
+    MatX q(model->nq(), T);
+    for (int k = 0; k < T; ++k) {
+      q.col(k).head<3>() = ref.root_pos_W.col(k);
+      const Quat& R = ref.root_quat_W[static_cast<std::size_t>(k)];
+      q.col(k).segment<4>(3) << R.w(), R.x(), R.y(), R.z();
+      for (std::size_t c = 0; c < order.size(); ++c) q(7 + order[c], k) = ref.joint_pos(static_cast<Eigen::Index>(c), k);
+    }
+    const QualityMetrics m = foot_metrics(*model, data, q, ref.fps, ref.contact);
+    std::vector<double> errors;
+    for (int k = 0; k < T; ++k) {
+      const int f = static_cast<int>(std::lround(k * clip.human.fps / ref.fps));  // resample keeps t = 0
+      if (f >= clip.human.num_frames) break;
+      const double e = frame_landmark_error_m(*model, data, clip.targets, q.col(k), f, nullptr);
+      if (std::isfinite(e)) errors.push_back(e);
+    }
+    std::sort(errors.begin(), errors.end());
+    int velocity = 0;
+    const VecX& limit = model->velocity_limits();
+    for (int k = 1; k < T; ++k)
+      for (int i = 0; i < model->nu(); ++i)
+        velocity += limit[i] > 0 && std::abs(q(7 + i, k) - q(7 + i, k - 1)) * ref.fps > limit[i] * (1 + 1e-9);
+    std::printf("%.4f %.4f %.4f %.2f %.2f %.4f %.4f %d %d %d\n", errors.empty() ? 0.0 : errors[errors.size() / 2],
+                m.foot_skating_max_m, m.heel_skating_max_m, m.stance_yaw_drift_max_deg, m.stance_tilt_max_deg,
+                m.stance_height_max_m, m.lowest_point_m, m.swing_frames_low, m.frames_without_stance, velocity);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "score_reference: %s\n", e.what());
+    return 2;
+  }
+  return 0;
+}
