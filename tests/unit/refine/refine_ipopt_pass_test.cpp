@@ -59,10 +59,7 @@ TEST(RefineIpoptPass, SyntheticClipRecoversASmoothFeasibleMotion) {
   EXPECT_LT(q.landmark_error_median_m, 0.01);
   // Tracks the exact targets better than the noisy input does, and stays near the ground truth.
   EXPECT_LT(q.landmark_error_median_m, before.landmark_error_median_m);
-  double worst = 0;
-  for (int f = 0; f < clip.motion.num_frames(); ++f)
-    worst = std::max(worst, (clip.motion.q.col(f).tail(model.nu()) - truth.col(f).tail(model.nu())).cwiseAbs().maxCoeff());
-  EXPECT_LT(worst, 0.1);  // rad: the 0.8 rad jump is gone
+  EXPECT_LT(test::max_joint_error_rad(clip.motion.q, truth), 0.1);  // the 0.8 rad jump is gone
 }
 
 TEST(RefineIpoptPass, FailedWindowsFallBackWithoutThrowing) {

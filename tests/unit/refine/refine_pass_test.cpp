@@ -28,16 +28,6 @@ PassRun run_refine(Clip& clip, const RobotModel& model, const std::string& optio
   return out;
 }
 
-// The stance bars of issue 13 on every frame of the (source-rate) motion.
-void expect_stance_held(const QualityMetrics& q) {
-  EXPECT_LE(q.foot_skating_max_m, 1e-3);
-  EXPECT_LE(q.heel_skating_max_m, 1e-3);
-  EXPECT_LE(q.stance_yaw_drift_max_deg, 0.5);
-  EXPECT_LE(q.stance_tilt_max_deg, 0.5);
-  EXPECT_LE(q.stance_height_max_m, 1e-3);
-  EXPECT_GE(q.lowest_point_m, -2e-3);
-}
-
 // Ground truth known: noisy per-frame "IK" with a velocity spike, both feet planted.
 TEST(RefinePass, SyntheticClipRecoversASmoothFeasibleMotion) {
   const RobotModel& model = robot("humanoid25");
@@ -54,7 +44,7 @@ TEST(RefinePass, SyntheticClipRecoversASmoothFeasibleMotion) {
   const QualityMetrics q = compute_quality(model, data, clip);
   EXPECT_EQ(q.position_limit_violations, 0);
   EXPECT_EQ(q.velocity_limit_violations, 0);
-  expect_stance_held(q);
+  test::expect_stance_held(q);
   EXPECT_LT(q.penetration_max_m, 1e-3);
   EXPECT_LT(q.frame0_sole_tilt_deg, 0.1);
   EXPECT_LT(std::abs(q.frame0_sole_height_m), 1e-4);
@@ -64,10 +54,7 @@ TEST(RefinePass, SyntheticClipRecoversASmoothFeasibleMotion) {
   // Closer to the exact targets than the noisy input, and to the ground truth.
   EXPECT_LT(q.landmark_error_median_m, 0.01);
   EXPECT_LT(q.landmark_error_median_m, before.landmark_error_median_m);
-  double worst = 0;
-  for (int f = 0; f < clip.motion.num_frames(); ++f)
-    worst = std::max(worst, (clip.motion.q.col(f).tail(model.nu()) - truth.col(f).tail(model.nu())).cwiseAbs().maxCoeff());
-  EXPECT_LT(worst, 0.1);  // rad: the 0.8 rad jump is gone
+  EXPECT_LT(test::max_joint_error_rad(clip.motion.q, truth), 0.1);  // the 0.8 rad jump is gone
 }
 
 // A stance foot that slides and turns in the input is fixed in the output; the robot is kept above
@@ -98,7 +85,7 @@ TEST(RefinePass, FixesSlidingTurningFeetAndLiftsWhatIsBelowTheFloor) {
   const PassRun r = run_refine(clip, model);
   EXPECT_EQ(r.statistics.get("frames-stance-not-held", -1), 0);
   const QualityMetrics q = compute_quality(model, data, clip);
-  expect_stance_held(q);
+  test::expect_stance_held(q);
   EXPECT_EQ(q.velocity_limit_violations, 0);
 }
 
@@ -107,7 +94,7 @@ TEST(RefinePass, SlowStepsExampleHoldsEveryStanceAndClearsEverySwing) {
   const test::Converted c = test::convert(model, test::source_path("examples/clips/slow_steps.bvh"), 0,
                                           "scale,label-contacts,ik,flat-contact,refine,ground,resample");
   test::expect_refine_acceptance(c);
-  expect_stance_held(c.quality);
+  test::expect_stance_held(c.quality);
   EXPECT_EQ(c.quality.swing_frames_low, 0);
   EXPECT_GE(c.quality.swing_clearance_min_m, 0.015 - 1e-4);
   EXPECT_EQ(c.quality.frames_without_stance, 0);
