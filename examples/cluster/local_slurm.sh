@@ -11,7 +11,10 @@
 # Needs root (slurmd runs the jobs) and the Debian packages slurmctld, slurmd, slurm-client and
 # munge (`apt-get install slurm-wlm munge`); `retarget` must be on PATH (or RETARGET=/path/to/it).
 # The node is sized from nproc and the memory of this machine; when slurm_array.sh asks for more
-# CPUs per task than that (--cpus-per-task=8), the submission lowers it to what the node has.
+# CPUs per task (--cpus-per-task=8) than nproc / SHARDS, the submission lowers it to that (at
+# least 1), so that the tasks run side by side. Other sbatch settings can be given the usual way,
+# through SBATCH_* variables (SBATCH_TIMELIMIT=12:00:00 for a library that needs more than the
+# script's 4 hours per task).
 #
 # Exit status: that of the merge job (0 every clip ok, 1 some clip failed its check, 2 some clip
 # failed otherwise or a shard is missing); 3 when the private Slurm did not come up or a job did
@@ -182,15 +185,17 @@ done
 version=$(sinfo -V)
 say "$version up: node localnode with $cpus CPU(s), $mem_mb MiB; config and logs in $tmp"
 
-# As the README says (Slurm arrays), with the CPUs per task lowered to what this node has.
+# As the README says (Slurm arrays), with the CPUs per task lowered so that the tasks run side by
+# side on this node (the shards writing into one folder at once, as on a cluster).
 script_cpus=$(sed -n 's/^#SBATCH --cpus-per-task=\([0-9]*\).*/\1/p' "$here/slurm_array.sh")
 script_mem=$(sed -n 's/^#SBATCH --mem-per-cpu=\([0-9]*\)G.*/\1/p' "$here/slurm_array.sh")
 extra=()
 task_cpus=${script_cpus:-1}
-if ((task_cpus > cpus)); then
-  task_cpus=$cpus
-  extra+=(--cpus-per-task="$cpus")
-  say "slurm_array.sh asks for $script_cpus CPUs per task; this node has $cpus: submitting with --cpus-per-task=$cpus"
+fit=$((cpus / SHARDS > 1 ? cpus / SHARDS : 1))
+if ((task_cpus > fit)); then
+  task_cpus=$fit
+  extra+=(--cpus-per-task="$fit")
+  say "slurm_array.sh asks for $script_cpus CPUs per task; $SHARDS tasks on $cpus CPUs: submitting with --cpus-per-task=$fit"
 fi
 if [ -n "$script_mem" ] && ((script_mem * 1024 * task_cpus > mem_mb)); then
   per_cpu=$((mem_mb / task_cpus))
@@ -217,6 +222,7 @@ while true; do
   case "$state" in
     COMPLETED | FAILED | CANCELLED | TIMEOUT | NODE_FAIL | OUT_OF_MEMORY | PREEMPTED | BOOT_FAIL | DEADLINE) break ;;
   esac
+  [ "$(field Reason "$info")" = DependencyNeverSatisfied ] && die "the merge job's dependency can never be satisfied"
   now=$(squeue -h -o '%i:%T' 2>/dev/null | tr '\n' ' ')
   [ "$now" != "$last" ] && say "queue: $now"
   last=$now

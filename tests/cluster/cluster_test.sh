@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # cluster_test.sh slurm|parallel RETARGET EXAMPLES SCRATCH
 #
-# Converts the example clips (EXAMPLES/clips) for g1 with --check once on this machine
+# Converts the example clips (EXAMPLES/clips) and a broken file for g1 with --check once on this machine
 # (`retarget batch`) and once through a cluster script of EXAMPLES/cluster: local_slurm.sh with 3
 # shards (a private Slurm, slurm_array.sh and the dependent merge job) or parallel.sh with 2
 # shards (GNU parallel, then merge-summaries). Passes when the merged summary has the same clips
@@ -15,7 +15,11 @@ scratch=${4:?scratch folder}
 robot=g1
 
 rm -rf "$scratch"
-mkdir -p "$scratch"
+mkdir -p "$scratch/in"
+# The example clips plus one broken file: a shard that exits 2 must not keep the merge from
+# running (afterany), and its failure must reach the merged summary and the exit status.
+cp "$examples"/clips/*.bvh "$scratch/in/"
+printf 'HIERARCHY\nROOT Hips\n{\n  OFFSET 0 0 x\n' >"$scratch/in/broken.bvh"
 PATH=$(dirname "$retarget"):$PATH
 export PATH
 
@@ -29,7 +33,7 @@ esac
 
 start=$SECONDS
 set +e
-"$retarget" batch "$examples/clips" --robot "$robot" -o "$scratch/single" --check --format csv,npz -q
+"$retarget" batch "$scratch/in" --robot "$robot" -o "$scratch/single" --check --format csv,npz -q
 single_rc=$?
 set -e
 echo "single-machine batch: exit $single_rc in $((SECONDS - start)) s"
@@ -38,9 +42,9 @@ start=$SECONDS
 set +e
 if [ "$mode" = slurm ]; then
   LOCAL_SLURM_TIMEOUT=600 RETARGET="$retarget" bash "$examples/cluster/local_slurm.sh" \
-    "$examples/clips" "$scratch/cluster" "$shards" "$robot"
+    "$scratch/in" "$scratch/cluster" "$shards" "$robot"
 else
-  JOBS_PER_SHARD=1 bash "$examples/cluster/parallel.sh" "$examples/clips" "$scratch/cluster" "$shards" "$robot"
+  JOBS_PER_SHARD=1 bash "$examples/cluster/parallel.sh" "$scratch/in" "$scratch/cluster" "$shards" "$robot"
 fi
 cluster_rc=$?
 set -e
@@ -67,6 +71,8 @@ for name in sorted(set(a) | set(b)):
         bad.append(f"{name}: single {a.get(name)} vs cluster {b.get(name)} ({', '.join(fields)})")
 if len(merged.get("merged_from", [])) != shards:
     bad.append(f"merged from {len(merged.get('merged_from', []))} summaries, expected {shards}")
+if a.get("broken", ("",))[0] != "bad-input":
+    bad.append(f"the broken file is {a.get('broken')} on one machine, expected bad-input")
 if cluster_rc != single_rc:
     bad.append(f"exit status {cluster_rc} through the cluster, {single_rc} on one machine")
 for name, row in sorted(b.items()):
