@@ -27,7 +27,8 @@ case "$mode" in
   slurm) shards=3 ;;
   parallel)
     shards=2
-    command -v parallel >/dev/null || { echo "SKIP: GNU parallel is not installed (apt-get install parallel)"; exit 77; } ;;
+    parallel --version 2>/dev/null | grep -q "^GNU parallel" ||
+      { echo "SKIP: GNU parallel is not installed (apt-get install parallel; moreutils' parallel is another tool)"; exit 77; } ;;
   *) echo "unknown mode $mode" >&2; exit 2 ;;
 esac
 
