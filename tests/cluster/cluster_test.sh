@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # cluster_test.sh slurm|parallel RETARGET EXAMPLES SCRATCH
 #
-# Converts the example clips (EXAMPLES/clips) and a broken file for g1 with --check once on this machine
+# Converts the example clips (EXAMPLES/clips) and a broken file for humanoid25 with --check once on this machine
 # (`retarget batch`) and once through a cluster script of EXAMPLES/cluster: local_slurm.sh with 3
 # shards (a private Slurm, slurm_array.sh and the dependent merge job) or parallel.sh with 2
 # shards (GNU parallel, then merge-summaries). Passes when the merged summary has the same clips
@@ -12,7 +12,7 @@ mode=${1:?mode: slurm or parallel}
 retarget=${2:?retarget binary}
 examples=${3:?examples folder}
 scratch=${4:?scratch folder}
-robot=g1
+robot=humanoid25   # the project's own robot: no ../shared data needed
 
 rm -rf "$scratch"
 mkdir -p "$scratch/in"
