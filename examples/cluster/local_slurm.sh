@@ -18,9 +18,12 @@
 #
 # Exit status: that of the merge job (0 every clip ok, 1 some clip failed its check, 2 some clip
 # failed otherwise or a shard is missing); 3 when the private Slurm did not come up or a job did
-# not finish in LOCAL_SLURM_TIMEOUT seconds (default 3600); 77 when Slurm cannot run here at all
+# not finish in LOCAL_SLURM_TIMEOUT seconds (default 0: no limit beyond the tasks' own --time);
+# 77 when Slurm cannot run here at all
 # (not root, packages missing), which the tests read as "skip". KEEP_SLURM_DIR=1 keeps the
-# temporary folder (config, state, daemon logs) for a look afterwards.
+# temporary folder (config, state, daemon logs) for a look afterwards. The folder is made under
+# $TMPDIR (default /tmp), which must allow executing files: slurmd runs the job scripts from its
+# spool there.
 set -euo pipefail
 
 usage="usage: local_slurm.sh INPUT OUTDIR [SHARDS] [ROBOT]"
@@ -28,13 +31,14 @@ INPUT=${1:?$usage}
 OUTDIR=${2:?$usage}
 SHARDS=${3:-3}
 ROBOT=${4:-g1}
-TIMEOUT=${LOCAL_SLURM_TIMEOUT:-3600}
+TIMEOUT=${LOCAL_SLURM_TIMEOUT:-0}
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 
 say() { echo "local_slurm: $*" >&2; }
 cannot() { say "cannot run Slurm here: $*"; exit 77; }
 die() { say "error: $*"; exit 3; }
 
+[[ "$TIMEOUT" =~ ^[0-9]+$ ]] || { say "error: LOCAL_SLURM_TIMEOUT must be a number of seconds, got '$TIMEOUT'"; exit 2; }
 [[ "$SHARDS" =~ ^[1-9][0-9]*$ ]] || { say "error: SHARDS must be a positive integer, got '$SHARDS'"; exit 2; }
 [ -e "$INPUT" ] || { say "error: $INPUT: no such file or folder"; exit 2; }
 INPUT=$(cd "$(dirname "$INPUT")" && pwd)/$(basename "$INPUT")
@@ -226,7 +230,7 @@ while true; do
   now=$(squeue -h -o '%i:%T' 2>/dev/null | tr '\n' ' ')
   [ "$now" != "$last" ] && say "queue: $now"
   last=$now
-  ((SECONDS - start < TIMEOUT)) || die "the jobs did not finish in $TIMEOUT s (LOCAL_SLURM_TIMEOUT)"
+  ((TIMEOUT == 0 || SECONDS - start < TIMEOUT)) || die "the jobs did not finish in $TIMEOUT s (LOCAL_SLURM_TIMEOUT)"
   sleep 1
 done
 jobs_submitted=()
