@@ -3,6 +3,8 @@
 #include <filesystem>
 
 #include "batch_test_util.hpp"
+#include "formats/bvh/bvh_reader.hpp"
+#include "formats/c3d/c3d_reader.hpp"
 #include "retarget/batch/batch_progress.hpp"
 #include "retarget/batch/batch_summary.hpp"
 #include "retarget/core/error.hpp"
@@ -322,6 +324,33 @@ TEST(BatchProgress, SourceFramesFromTheHeaderOnly) {
   EXPECT_EQ(probe_source_frames(dir + "/processor.c3d"), 0);
   write_text(dir + "/short.c3d", c3d_header(1, 100, 84).substr(0, 300));
   EXPECT_EQ(probe_source_frames(dir + "/short.c3d"), 0);
+}
+
+// The header probe against the full readers on every real clip: the same count, or 0 (unknown)
+// where the file cannot say it in its header (a saturated C3D word) or cannot be read at all.
+TEST(BatchProgress, SourceFramesAgreeWithTheReadersOnRealClips) {
+  RT_REQUIRE_SHARED(root, "bvh");
+  int compared = 0;
+  for (const char* folder : {"bvh", "c3d", "c3d/btkdata"}) {
+    const std::string dir = test::shared_data_dir() + "/" + folder;
+    if (!fs::is_directory(dir)) continue;
+    for (const auto& e : fs::directory_iterator(dir)) {
+      const std::string path = e.path().string();
+      const std::string ext = to_lower(e.path().extension().string());
+      if (!e.is_regular_file() || (ext != ".bvh" && ext != ".c3d")) continue;
+      const std::int64_t probed = probe_source_frames(path);
+      int frames = 0;
+      try {
+        frames = ext == ".bvh" ? read_bvh(path).declared_frames : c3d::read_c3d(path).points.num_frames;
+      } catch (const InputError&) {
+        continue;  // a deliberately broken file: the worker's business
+      }
+      if (probed == 0) continue;
+      EXPECT_EQ(probed, frames) << path;
+      ++compared;
+    }
+  }
+  EXPECT_GE(compared, 15);
 }
 
 TEST(BatchProgress, UnknownFrameCountsAreEstimatedFromTheSize) {
