@@ -17,10 +17,11 @@
 # script's 4 hours per task).
 #
 # Exit status: that of the merge job (0 every clip ok, 1 some clip failed its check, 2 some clip
-# failed otherwise or a shard is missing); 3 when the private Slurm did not come up or a job did
-# not finish in LOCAL_SLURM_TIMEOUT seconds (default 0: no limit beyond the tasks' own --time);
-# 77 when Slurm cannot run here at all
-# (not root, packages missing), which the tests read as "skip". KEEP_SLURM_DIR=1 keeps the
+# failed otherwise or a shard is missing); 3 when sbatch rejected a submission (a broken #SBATCH
+# line, say), the merge job could never run, or the jobs did not finish in LOCAL_SLURM_TIMEOUT
+# seconds (default 0: no limit beyond the tasks' own --time); 77 when Slurm cannot run here at all
+# (not root, packages missing, munged, slurmctld or slurmd would not start: their log tails are
+# printed), which the tests read as "skip". KEEP_SLURM_DIR=1 keeps the
 # temporary folder (config, state, daemon logs) for a look afterwards. The folder is made under
 # $TMPDIR (default /tmp), which must allow executing files: slurmd runs the job scripts from its
 # spool there.
@@ -124,11 +125,12 @@ for _ in $(seq 50); do [ -S "$tmp/munge/socket" ] && break; sleep 0.1; done
 [ -S "$tmp/munge/socket" ] || { show_logs; cannot "munged did not start"; }
 
 # The node: this machine's CPUs and memory (minus 10% and at least 512 MiB for the system).
-host=$(hostname -s)
+host=$(hostname -s 2>/dev/null || uname -n)
+host=${host%%.*}
 cpus=$(nproc)
 mem_mb=$(awk '/^MemTotal:/ { print int($2 / 1024) }' /proc/meminfo)
 mem_mb=$((mem_mb - (mem_mb / 10 > 512 ? mem_mb / 10 : 512)))
-((mem_mb >= 256)) || die "only $mem_mb MiB of memory for the node"
+((mem_mb >= 256)) || cannot "only $mem_mb MiB of memory for the node"
 read -r ctld_port slurmd_port < <(python3 -c '
 import socket
 ss = [socket.socket() for _ in range(2)]
@@ -180,12 +182,12 @@ pids+=($!)
 # Up when the node is idle (slurmd registered with slurmctld).
 up=0
 for _ in $(seq 300); do
-  for p in "${pids[@]}"; do kill -0 "$p" 2>/dev/null || { show_logs; die "a Slurm daemon exited while starting"; }; done
+  for p in "${pids[@]}"; do kill -0 "$p" 2>/dev/null || { show_logs; cannot "a Slurm daemon exited while starting (logs above)"; }; done
   state=$(sinfo -h -n localnode -o %T 2>/dev/null || true)
   if [ "$state" = idle ]; then up=1; break; fi
   sleep 0.2
 done
-((up)) || { show_logs; die "the node did not become idle in 60 s (state: ${state:-unknown})"; }
+((up)) || { show_logs; cannot "the node did not become idle in 60 s (state: ${state:-unknown}; logs above)"; }
 version=$(sinfo -V)
 say "$version up: node localnode with $cpus CPU(s), $mem_mb MiB; config and logs in $tmp"
 
