@@ -185,7 +185,9 @@ Command setup_batch(CLI::App& parent) {
                 ++finished;
                 if (tty && c.status == ClipStatus::Ok) return;
                 if (tty && c.status == ClipStatus::Skipped) return;
-                std::cout << (tty ? "\r\033[K" : "") << format_clip_line(c, finished, p.total) << "\n" << std::flush;
+                // A terminal has the ETA in the live bar; a log gets it on every clip's line.
+                std::cout << (tty ? "\r\033[K" + format_clip_line(c, finished, p.total) : format_clip_log_line(c, p)) << "\n"
+                          << std::flush;
               };
               if (tty)
                 cb.on_progress = [&](const BatchProgress& p) {

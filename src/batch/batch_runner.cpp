@@ -280,13 +280,24 @@ BatchSummary run_batch(const BatchOptions& options, const BatchCallbacks& callba
 
   BatchProgress progress;
   progress.total = static_cast<int>(plan.clips.size());
-  std::uint64_t bytes_left = 0, bytes_converted = 0;
+  // Progress in source frames (from the file headers; estimated from the size where unknown).
   std::vector<std::size_t> queue;  // plan indices to run, in order
+  std::vector<BatchClip> to_run;
+  std::vector<std::int64_t> probed;
   for (std::size_t k = 0; k < plan.clips.size(); ++k)
     if (!plan.clips[k].up_to_date) {
       queue.push_back(k);
-      bytes_left += std::max<std::uint64_t>(plan.clips[k].clip.input_bytes, 1);
+      to_run.push_back(plan.clips[k].clip);
+      probed.push_back(probe_source_frames(plan.clips[k].clip.input));
     }
+  std::vector<double> weight(plan.clips.size(), 0.0);  // by plan index
+  {
+    const std::vector<double> w = source_frame_weights(to_run, probed);
+    for (std::size_t q = 0; q < queue.size(); ++q) weight[queue[q]] = w[q];
+  }
+  double frames_converted = 0;
+  int converted = 0;
+  for (const std::size_t k : queue) progress.frames_total += weight[k];
 
   auto record = [&](ClipResult r) {
     if (r.status == ClipStatus::Ok || r.status == ClipStatus::Skipped) ++progress.done;
@@ -316,6 +327,15 @@ BatchSummary run_batch(const BatchOptions& options, const BatchCallbacks& callba
   bool killed = false, launched_any = false;
   auto last_progress = Clock::now() - std::chrono::hours(1);
   bool changed = true;
+
+  // ETA: the source frames left (running clips in full) at the source frames per second of wall
+  // time converted since the first worker started.
+  auto update_rates = [&] {
+    if (frames_converted <= 0 || !launched_any) return;
+    const double running_s = std::max(1e-3, seconds_since(first_launch));
+    progress.eta_s = std::max(0.0, progress.frames_total - progress.frames_done) / (frames_converted / running_s);
+    progress.clips_per_min = 60.0 * converted / running_s;
+  };
 
   auto stop = [&](const std::string& why) {
     if (!stopped.empty()) return;
@@ -357,7 +377,7 @@ BatchSummary run_batch(const BatchOptions& options, const BatchCallbacks& callba
         ClipResult r = base_result(clip);
         r.status = ClipStatus::Error;
         r.error = std::string("cannot start the worker: ") + e.what();
-        bytes_left -= std::min(bytes_left, std::max<std::uint64_t>(clip.input_bytes, 1));
+        progress.frames_done += weight[k];
         record(std::move(r));
         if (o.fail_fast) stop("--fail-fast: " + clip.output_name + " failed");
         changed = true;
@@ -377,9 +397,12 @@ BatchSummary run_batch(const BatchOptions& options, const BatchCallbacks& callba
       }
       const BatchClip& clip = plan.clips[w.index].clip;
       ClipResult r = finished_result(clip, w.process->exit(), w.paths, o, stopped);
-      const std::uint64_t b = std::max<std::uint64_t>(clip.input_bytes, 1);
-      bytes_left -= std::min(bytes_left, b);
-      if (r.status != ClipStatus::Cancelled) bytes_converted += b;
+      progress.frames_done += weight[w.index];
+      if (r.status != ClipStatus::Cancelled) {
+        frames_converted += weight[w.index];
+        ++converted;
+      }
+      update_rates();  // before record(): the clip's log line shows the ETA with it
       const bool failed = r.status != ClipStatus::Ok;
       running.erase(running.begin() + static_cast<long>(i));
       progress.running = static_cast<int>(running.size());
@@ -389,10 +412,7 @@ BatchSummary run_batch(const BatchOptions& options, const BatchCallbacks& callba
     }
     progress.running = static_cast<int>(running.size());
     progress.elapsed_s = seconds_since(t0);
-    if (bytes_converted > 0 && launched_any) {
-      const double rate = static_cast<double>(bytes_converted) / std::max(1e-3, seconds_since(first_launch));
-      progress.eta_s = static_cast<double>(bytes_left) / rate;
-    }
+    update_rates();
     if (running.empty() && (next >= queue.size() || !stopped.empty())) break;
     if (callbacks.on_progress && (changed || seconds_since(last_progress) >= 1.0)) {
       callbacks.on_progress(progress);

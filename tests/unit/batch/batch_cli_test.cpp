@@ -217,6 +217,7 @@ TEST(BatchCli, ExitCodesOutputAndDryRun) {
   CliRun r = retarget({"batch", dir + "/good", "-o", dir + "/out1", "--no-refine"}, dir + "/1.log");
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("[1/1] ok            stand"), std::string::npos) << r.output;  // plain lines: not a TTY
+  EXPECT_NE(r.output.find(" s  ETA 0s\n"), std::string::npos) << r.output;           // with the running ETA
   EXPECT_NE(r.output.find("summary: " + dir + "/out1/summary.json"), std::string::npos) << r.output;
 
   r = retarget({"batch", dir + "/mixed", "-o", dir + "/out2", "--no-refine"}, dir + "/2.log");

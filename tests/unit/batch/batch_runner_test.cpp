@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstring>
 #include <filesystem>
 
 #include "batch_test_util.hpp"
@@ -119,7 +120,22 @@ TEST(BatchRunner, RealConversionsWithBrokenFiles) {
   BatchOptions o = quick_batch(in, dir + "/out");
   o.worker_executable = test::retarget_binary();
   o.convert.formats = {ReferenceFormat::Csv, ReferenceFormat::Npz};
-  const BatchSummary s = run_batch(o);
+  // Progress in source frames: 180 + 210 from the BVH headers, the two broken files (no frame
+  // count in their header) estimated from their size at those clips' frames per byte, >= 1 each.
+  std::vector<BatchProgress> after_clip;
+  BatchCallbacks cb;
+  cb.on_clip = [&](const ClipResult&, const BatchProgress& p) { after_clip.push_back(p); };
+  const BatchSummary s = run_batch(o, cb);
+  ASSERT_EQ(after_clip.size(), 4u);
+  const double per_byte = 390.0 / static_cast<double>(fs::file_size(in + "/stand.bvh") + fs::file_size(in + "/walks/foot_lift.bvh"));
+  const double expected_frames = 390 + std::max(1.0, per_byte * static_cast<double>(std::strlen(kBrokenBvh))) + std::max(1.0, per_byte * 700);
+  for (const BatchProgress& p : after_clip) {
+    EXPECT_NEAR(p.frames_total, expected_frames, 1e-6);
+    EXPECT_GE(p.eta_s, 0.0);  // something was converted before each report
+    EXPECT_GT(p.clips_per_min, 0.0);
+  }
+  EXPECT_NEAR(after_clip.back().frames_done, expected_frames, 1e-6);
+  EXPECT_LT(after_clip.front().frames_done, expected_frames);
   ASSERT_EQ(s.clips.size(), 4u);
   EXPECT_EQ(s.robot, "humanoid25");
   for (const char* name : {"stand", "walks/foot_lift"}) {

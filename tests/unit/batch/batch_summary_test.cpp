@@ -3,6 +3,8 @@
 #include <filesystem>
 
 #include "batch_test_util.hpp"
+#include "formats/bvh/bvh_reader.hpp"
+#include "formats/c3d/c3d_reader.hpp"
 #include "retarget/batch/batch_progress.hpp"
 #include "retarget/batch/batch_summary.hpp"
 #include "retarget/core/error.hpp"
@@ -261,9 +263,110 @@ TEST(BatchProgress, Formatting) {
   EXPECT_NE(bar.find("left 28"), std::string::npos) << bar;
   EXPECT_NE(bar.find("ETA 3m12s"), std::string::npos) << bar;
   EXPECT_EQ(bar.substr(0, 2), "[#");
+  EXPECT_EQ(bar.find("clips/min"), std::string::npos) << bar;  // no rate before a clip was converted
+  p.clips_per_min = 3.44;
+  EXPECT_NE(format_progress_bar(p, 120).find("running 2  3.4 clips/min  ETA 3m12s"), std::string::npos)
+      << format_progress_bar(p, 120);
   EXPECT_LE(format_progress_bar(p, 30).size(), 30u);
-  const std::string line = format_clip_line(failed_clip("broken", ClipStatus::BadInput, "x.bvh:3: bad"), 7, 40);
+  EXPECT_EQ(format_clip_rate(12.6), "13 clips/min");
+  EXPECT_EQ(format_clip_rate(-1), "? clips/min");
+  const ClipResult broken = failed_clip("broken", ClipStatus::BadInput, "x.bvh:3: bad");
+  const std::string line = format_clip_line(broken, 7, 40);
   EXPECT_EQ(line, "[ 7/40] bad-input     broken  0.0 s  x.bvh:3: bad");
+  EXPECT_EQ(format_clip_log_line(broken, p), "[12/40] bad-input     broken  0.0 s  x.bvh:3: bad  ETA 3m12s");
+  p.eta_s = -1;
+  EXPECT_EQ(format_clip_log_line(broken, p), "[12/40] bad-input     broken  0.0 s  x.bvh:3: bad  ETA ?");
+  p.done = 38;
+  EXPECT_EQ(format_clip_log_line(ok_clip("last"), p), "[40/40] ok            last  1.2 s  check passed  ETA 0s");
+}
+
+// A C3D file: a 512-byte header (parameter block number, 0x50, words 4 and 5 = first and last
+// frame) and the first bytes of the parameter section with the processor byte.
+std::string c3d_header(int first, int last, unsigned char processor) {
+  std::string bytes(1024, '\0');
+  bytes[0] = 2;
+  bytes[1] = 0x50;
+  const bool big = processor == 86;
+  auto put = [&](int word, int v) {
+    const char hi = static_cast<char>((v >> 8) & 0xff), lo = static_cast<char>(v & 0xff);
+    bytes[static_cast<std::size_t>(2 * (word - 1))] = big ? hi : lo;
+    bytes[static_cast<std::size_t>(2 * (word - 1) + 1)] = big ? lo : hi;
+  };
+  put(4, first);
+  put(5, last);
+  bytes[512] = 1;
+  bytes[513] = 0x50;
+  bytes[514] = 1;
+  bytes[515] = static_cast<char>(processor);
+  return bytes;
+}
+
+TEST(BatchProgress, SourceFramesFromTheHeaderOnly) {
+  EXPECT_EQ(probe_source_frames(test::source_path("examples/clips/stand.bvh")), 180);
+  EXPECT_EQ(probe_source_frames(test::source_path("examples/clips/slow_steps.bvh")), 768);
+  const std::string dir = scratch_dir();
+  write_text(dir + "/a.BVH", "HIERARCHY\nROOT Hips\n{\n}\nMOTION\n  Frames:   42\r\nFrame Time: 0.01\n");
+  EXPECT_EQ(probe_source_frames(dir + "/a.BVH"), 42);
+  write_text(dir + "/b.bvh", "HIERARCHY\nROOT Hips\n{\n}\nMOTION\nFrames: 4x\n");
+  EXPECT_EQ(probe_source_frames(dir + "/b.bvh"), 0);
+  write_text(dir + "/c.bvh", "HIERARCHY\nROOT Hips\n");
+  EXPECT_EQ(probe_source_frames(dir + "/c.bvh"), 0);
+  EXPECT_EQ(probe_source_frames(dir + "/missing.bvh"), 0);
+  write_text(dir + "/intel.c3d", c3d_header(1, 600, 84));
+  EXPECT_EQ(probe_source_frames(dir + "/intel.c3d"), 600);
+  write_text(dir + "/mips.c3d", c3d_header(11, 310, 86));
+  EXPECT_EQ(probe_source_frames(dir + "/mips.c3d"), 300);
+  write_text(dir + "/dec.c3d", c3d_header(1, 0x1234, 85));
+  EXPECT_EQ(probe_source_frames(dir + "/dec.c3d"), 0x1234);
+  write_text(dir + "/saturated.c3d", c3d_header(1, 0xffff, 84));
+  EXPECT_EQ(probe_source_frames(dir + "/saturated.c3d"), 0);
+  write_text(dir + "/processor.c3d", c3d_header(1, 100, 7));
+  EXPECT_EQ(probe_source_frames(dir + "/processor.c3d"), 0);
+  write_text(dir + "/short.c3d", c3d_header(1, 100, 84).substr(0, 300));
+  EXPECT_EQ(probe_source_frames(dir + "/short.c3d"), 0);
+}
+
+// The header probe against the full readers on every real clip: the same count, or 0 (unknown)
+// where the file cannot say it in its header (a saturated C3D word) or cannot be read at all.
+TEST(BatchProgress, SourceFramesAgreeWithTheReadersOnRealClips) {
+  RT_REQUIRE_SHARED(root, "bvh");
+  int compared = 0;
+  for (const char* folder : {"bvh", "c3d", "c3d/btkdata"}) {
+    const std::string dir = test::shared_data_dir() + "/" + folder;
+    if (!fs::is_directory(dir)) continue;
+    for (const auto& e : fs::directory_iterator(dir)) {
+      const std::string path = e.path().string();
+      const std::string ext = to_lower(e.path().extension().string());
+      if (!e.is_regular_file() || (ext != ".bvh" && ext != ".c3d")) continue;
+      const std::int64_t probed = probe_source_frames(path);
+      int frames = 0;
+      try {
+        frames = ext == ".bvh" ? read_bvh(path).declared_frames : c3d::read_c3d(path).points.num_frames;
+      } catch (const InputError&) {
+        continue;  // a deliberately broken file: the worker's business
+      }
+      if (probed == 0) continue;
+      EXPECT_EQ(probed, frames) << path;
+      ++compared;
+    }
+  }
+  EXPECT_GE(compared, 15);
+}
+
+TEST(BatchProgress, UnknownFrameCountsAreEstimatedFromTheSize) {
+  std::vector<BatchClip> clips(3);
+  clips[0].input_bytes = 1000;
+  clips[1].input_bytes = 3000;
+  clips[2].input_bytes = 500;
+  std::vector<double> w = source_frame_weights(clips, {100, 0, 0});
+  ASSERT_EQ(w.size(), 3u);
+  EXPECT_DOUBLE_EQ(w[0], 100);
+  EXPECT_DOUBLE_EQ(w[1], 300);  // 0.1 frames per byte, from the probed clip
+  EXPECT_DOUBLE_EQ(w[2], 50);
+  w = source_frame_weights(clips, {0, 0, 0});  // none known: proportional to the size
+  EXPECT_DOUBLE_EQ(w[1] / w[0], 3.0);
+  clips[2].input_bytes = 0;
+  EXPECT_DOUBLE_EQ(source_frame_weights(clips, {0, 0, 0})[2], 1.0);  // never 0
 }
 
 }  // namespace
