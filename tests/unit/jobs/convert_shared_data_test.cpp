@@ -131,24 +131,36 @@ TEST_P(ConvertSharedData, MeetsTheQualityBounds) {
   const std::set<std::string> open = open_bars(c);
   const auto bar = [&](const char* name) { return open.count(name) == 0; };
   EXPECT_EQ(q.position_limit_violations, 0);
-  if (bar("velocity")) EXPECT_EQ(q.velocity_limit_violations, 0) << q.fastest_joint << " at " << q.max_velocity_ratio << "x its limit";
+  if (bar("velocity")) {
+    EXPECT_EQ(q.velocity_limit_violations, 0) << q.fastest_joint << " at " << q.max_velocity_ratio << "x its limit";
+  }
   if (bar("drift")) {
     EXPECT_LE(q.foot_skating_max_m, 0.001);
     EXPECT_LE(q.heel_skating_max_m, 0.001);
   }
-  if (bar("yaw")) EXPECT_LE(q.stance_yaw_drift_max_deg, 0.5);
-  if (bar("tilt")) EXPECT_LE(q.stance_tilt_max_deg, 0.5);
-  if (bar("height")) EXPECT_LE(q.stance_height_max_m, 0.001);
+  if (bar("yaw")) {
+    EXPECT_LE(q.stance_yaw_drift_max_deg, 0.5);
+  }
+  if (bar("tilt")) {
+    EXPECT_LE(q.stance_tilt_max_deg, 0.5);
+  }
+  if (bar("height")) {
+    EXPECT_LE(q.stance_height_max_m, 0.001);
+  }
   if (bar("floor")) {
     EXPECT_GE(q.lowest_point_m, -0.002) << q.lowest_link << " at " << q.lowest_time_s << " s";
     EXPECT_LE(q.penetration_max_m, 0.002);
   }
-  if (bar("swing")) EXPECT_EQ(q.swing_frames_low, 0) << "lowest swing sole " << q.swing_clearance_min_m << " m";
+  if (bar("swing")) {
+    EXPECT_EQ(q.swing_frames_low, 0) << "lowest swing sole " << q.swing_clearance_min_m << " m";
+  }
   EXPECT_LE(q.frame0_sole_tilt_deg, 0.5);
   EXPECT_LE(std::abs(q.frame0_sole_height_m), 0.001);
   if (c.walking) {
     EXPECT_EQ(q.frames_without_stance, 0);
-    if (bar("jitter")) EXPECT_LT(q.jitter_rad_s3, q.jitter_per_frame_ik_rad_s3);
+    if (bar("jitter")) {
+      EXPECT_LT(q.jitter_rad_s3, q.jitter_per_frame_ik_rad_s3);
+    }
   }
   std::cout << format("[ quality  ] %-10s %-52s%s landmark error median %.3f m p95 %.3f m, stance drift max %.4f m, "
                       "yaw max %.2f deg, lowest %.4f m, jitter %.0f (IK %.0f), %.0f ms\n",
