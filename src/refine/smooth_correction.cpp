@@ -124,84 +124,84 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
                       std::vector<SpeedRow>& speed_out) {
     speed_out.clear();
     ++rep.evaluations;
-  used.assign(static_cast<std::size_t>(nv), 0);
-  for (int foot = 0; foot < 2; ++foot)
-    for (int d : chain(model.soles()[static_cast<std::size_t>(foot)].link)) used[static_cast<std::size_t>(d)] = 1;
-  for (int f = 0; f < T; ++f) {
-    auto& fr = rows_out[static_cast<std::size_t>(f)];
-    fr.rows.clear();
-    fr.jac.clear();
-    q = integrate(model, q_base.col(f), D.col(f), 1.0);
-    update_kinematics(model, data, q);
-    std::array<int, 2> skip{{-1, -1}};
-    std::vector<std::pair<int, double>> min_height;
-    for (int foot = 0; foot < 2; ++foot) {
-      const auto k = static_cast<std::size_t>(foot);
-      const FootTarget& t = plan.feet[k][static_cast<std::size_t>(f)];
-      const Sole& sole = model.soles()[k];
-      if (t.mode == FootMode::Stance) skip[k] = sole.link;
-      else min_height.emplace_back(sole.link, t.min_height_m);
-      if (t.mode == FootMode::Free) continue;
-      const double blend = t.mode == FootMode::Stance ? 1.0 : t.end_blend;
-      const double w = o.swing_weight + (o.stance_weight - o.swing_weight) * blend;
-      const double len = o.swing_length_m + (o.stance_length_m - o.swing_length_m) * blend;
-      const Iso3 X = link_pose(model, data, sole.link);
-      const Vec3 p = X * sole.p_L_center;
-      const Vec3 e_p = p - t.pose.p_W;
-      const Vec3 e_o = rotation_log(X.linear() * o.R_L_sole[k] * t.pose.R_W.transpose());
-      mj_jac(m, data.mj(), jp.data(), jr.data(), p.data(), model.links()[static_cast<std::size_t>(sole.link)].body);
-      const std::vector<int>& cols = chain(sole.link);
-      for (int r = 0; r < 6; ++r) {
-        Row row;
-        row.weight = r < 3 ? w : w * len * len;
-        row.residual = r < 3 ? e_p[r] : e_o[r - 3];
-        row.cols = cols.data();
-        row.ncols = cols.size();
-        row.jac = fr.jac.size();
-        for (int c : cols) fr.jac.push_back(r < 3 ? jp(r, c) : jr(r - 3, c));
-        fr.rows.push_back(row);
-      }
-    }
-    for (int i = 0; i < model.nu(); ++i) {
-      const double v = q[7 + i];
-      const double excess = v > o.q_upper[i] ? v - o.q_upper[i] : (v < o.q_lower[i] ? v - o.q_lower[i] : 0.0);
-      if (excess == 0) continue;
-      Row row;
-      row.weight = o.limit_weight;
-      row.residual = excess;
-      row.cols = &dof_ids[static_cast<std::size_t>(6 + i)];
-      row.ncols = 1;
-      row.jac = fr.jac.size();
-      fr.jac.push_back(1.0);
-      used[static_cast<std::size_t>(6 + i)] = 1;
-      fr.rows.push_back(row);
-    }
-    penalties.clear();
-    floor_penalties(model, data, o.floor_weight, min_height, skip, penalties);
-    for (const FloorPenalty& pen : penalties) {
-      // Three rows R = Lᵀ B with residuals L⁻¹ m (M = L Lᵀ) give the same normal equations.
-      mj_jac(m, data.mj(), jp.data(), jr.data(), pen.p_W_origin.data(), model.links()[static_cast<std::size_t>(pen.link)].body);
-      const Eigen::LLT<Mat3> llt(pen.M + 1e-12 * Mat3::Identity());
-      const Mat3 L = llt.matrixL();
-      const Vec3 res = L.triangularView<Eigen::Lower>().solve(pen.m);
-      const std::vector<int>& cols = chain(pen.link);
-      for (int r = 0; r < 3; ++r) {
-        Row row;
-        row.weight = 1;
-        row.residual = res[r];
-        row.cols = cols.data();
-        row.ncols = cols.size();
-        row.jac = fr.jac.size();
-        for (int c : cols) {
-          const Vec3 bc(jp(2, c), jr(0, c), jr(1, c));
-          fr.jac.push_back(L.col(r).dot(bc));
-          used[static_cast<std::size_t>(c)] = 1;
+    used.assign(static_cast<std::size_t>(nv), 0);
+    for (int foot = 0; foot < 2; ++foot)
+      for (int d : chain(model.soles()[static_cast<std::size_t>(foot)].link)) used[static_cast<std::size_t>(d)] = 1;
+    for (int f = 0; f < T; ++f) {
+      auto& fr = rows_out[static_cast<std::size_t>(f)];
+      fr.rows.clear();
+      fr.jac.clear();
+      q = integrate(model, q_base.col(f), D.col(f), 1.0);
+      update_kinematics(model, data, q);
+      std::array<int, 2> skip{{-1, -1}};
+      std::vector<std::pair<int, double>> min_height;
+      for (int foot = 0; foot < 2; ++foot) {
+        const auto k = static_cast<std::size_t>(foot);
+        const FootTarget& t = plan.feet[k][static_cast<std::size_t>(f)];
+        const Sole& sole = model.soles()[k];
+        if (t.mode == FootMode::Stance) skip[k] = sole.link;
+        else min_height.emplace_back(sole.link, t.min_height_m);
+        if (t.mode == FootMode::Free) continue;
+        const double blend = t.mode == FootMode::Stance ? 1.0 : t.end_blend;
+        const double w = o.swing_weight + (o.stance_weight - o.swing_weight) * blend;
+        const double len = o.swing_length_m + (o.stance_length_m - o.swing_length_m) * blend;
+        const Iso3 X = link_pose(model, data, sole.link);
+        const Vec3 p = X * sole.p_L_center;
+        const Vec3 e_p = p - t.pose.p_W;
+        const Vec3 e_o = rotation_log(X.linear() * o.R_L_sole[k] * t.pose.R_W.transpose());
+        mj_jac(m, data.mj(), jp.data(), jr.data(), p.data(), model.links()[static_cast<std::size_t>(sole.link)].body);
+        const std::vector<int>& cols = chain(sole.link);
+        for (int r = 0; r < 6; ++r) {
+          Row row;
+          row.weight = r < 3 ? w : w * len * len;
+          row.residual = r < 3 ? e_p[r] : e_o[r - 3];
+          row.cols = cols.data();
+          row.ncols = cols.size();
+          row.jac = fr.jac.size();
+          for (int c : cols) fr.jac.push_back(r < 3 ? jp(r, c) : jr(r - 3, c));
+          fr.rows.push_back(row);
         }
-        row.cost = r == 0 ? pen.cost : 0.0;
+      }
+      for (int i = 0; i < model.nu(); ++i) {
+        const double v = q[7 + i];
+        const double excess = v > o.q_upper[i] ? v - o.q_upper[i] : (v < o.q_lower[i] ? v - o.q_lower[i] : 0.0);
+        if (excess == 0) continue;
+        Row row;
+        row.weight = o.limit_weight;
+        row.residual = excess;
+        row.cols = &dof_ids[static_cast<std::size_t>(6 + i)];
+        row.ncols = 1;
+        row.jac = fr.jac.size();
+        fr.jac.push_back(1.0);
+        used[static_cast<std::size_t>(6 + i)] = 1;
         fr.rows.push_back(row);
       }
+      penalties.clear();
+      floor_penalties(model, data, o.floor_weight, min_height, skip, penalties);
+      for (const FloorPenalty& pen : penalties) {
+        // Three rows R = Lᵀ B with residuals L⁻¹ m (M = L Lᵀ) give the same normal equations.
+        mj_jac(m, data.mj(), jp.data(), jr.data(), pen.p_W_origin.data(), model.links()[static_cast<std::size_t>(pen.link)].body);
+        const Eigen::LLT<Mat3> llt(pen.M + 1e-12 * Mat3::Identity());
+        const Mat3 L = llt.matrixL();
+        const Vec3 res = L.triangularView<Eigen::Lower>().solve(pen.m);
+        const std::vector<int>& cols = chain(pen.link);
+        for (int r = 0; r < 3; ++r) {
+          Row row;
+          row.weight = 1;
+          row.residual = res[r];
+          row.cols = cols.data();
+          row.ncols = cols.size();
+          row.jac = fr.jac.size();
+          for (int c : cols) {
+            const Vec3 bc(jp(2, c), jr(0, c), jr(1, c));
+            fr.jac.push_back(L.col(r).dot(bc));
+            used[static_cast<std::size_t>(c)] = 1;
+          }
+          row.cost = r == 0 ? pen.cost : 0.0;
+          fr.rows.push_back(row);
+        }
+      }
     }
-  }
     if (o.max_step.size() == model.nu())
       for (int f = 0; f + 1 < T; ++f)
         for (int i = 0; i < model.nu(); ++i) {
