@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "retarget/motion/normalize.hpp"
+#include "support/motion_builder.hpp"
 
 namespace rt {
 namespace {
@@ -17,13 +18,7 @@ HumanMotion walk_on(double slope_x, double slope_y = 0) {
   h.fps = 100;
   h.num_frames = 400;
   const int T = h.num_frames;
-  auto track = [&](Landmark l) -> LandmarkTrack& {
-    LandmarkTrack& t = h[l];
-    t.present = true;
-    t.p_W.setZero(3, T);
-    t.state.assign(static_cast<std::size_t>(T), SampleState::Measured);
-    return t;
-  };
+  auto track = [&](Landmark l) -> LandmarkTrack& { return test::measured_track(h, l); };
   for (int side = 0; side < 2; ++side) {
     LandmarkTrack& ankle = track(side ? Landmark::RightAnkle : Landmark::LeftAnkle);
     LandmarkTrack& knee = track(side ? Landmark::RightKnee : Landmark::LeftKnee);

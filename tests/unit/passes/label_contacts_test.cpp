@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "retarget/passes/retime.hpp"
+#include "support/motion_builder.hpp"
 
 namespace rt {
 namespace {
@@ -109,13 +110,7 @@ HumanMotion synthetic_walk(double fps = 100, double seconds = 4) {
   h.fps = fps;
   h.num_frames = static_cast<int>(seconds * fps);
   const int T = h.num_frames;
-  auto track = [&](Landmark l) -> LandmarkTrack& {
-    LandmarkTrack& t = h[l];
-    t.present = true;
-    t.p_W.setZero(3, T);
-    t.state.assign(static_cast<std::size_t>(T), SampleState::Measured);
-    return t;
-  };
+  auto track = [&](Landmark l) -> LandmarkTrack& { return test::measured_track(h, l); };
   for (int side = 0; side < 2; ++side) {
     const double y = side == 0 ? 0.1 : -0.1, phase = side == 0 ? 0.0 : 0.5;
     LandmarkTrack& hip = track(side == 0 ? Landmark::LeftHip : Landmark::RightHip);

@@ -8,30 +8,11 @@
 namespace rt {
 namespace {
 
+using test::PassRun;
 using test::robot;
 
-struct PassRun {
-  Statistics statistics;
-  Diagnostics diagnostics;
-};
-
 PassRun run_refine(Clip& clip, const RobotModel& model, const std::string& options = "") {
-  PassRun out;
-  RobotData data(model);
-  RefineIpoptPass pass;
-  if (!options.empty()) {
-    std::size_t pos = 0;
-    while (pos < options.size()) {
-      std::size_t end = options.find(',', pos);
-      if (end == std::string::npos) end = options.size();
-      const std::string kv = options.substr(pos, end - pos);
-      pass.options().set(kv.substr(0, kv.find('=')), kv.substr(kv.find('=') + 1), "refine-ipopt");
-      pos = end + 1;
-    }
-  }
-  PassContext ctx{&model, &data, out.statistics, out.diagnostics};
-  pass.run(clip, ctx);
-  return out;
+  return test::run_pass<RefineIpoptPass>(clip, model, options, "refine-ipopt");
 }
 
 // Ground truth known: noisy per-frame "IK" with a velocity spike, both feet planted.

@@ -10,22 +10,11 @@
 namespace rt {
 namespace {
 
+using test::PassRun;
 using test::robot;
 
-struct PassRun {
-  Statistics statistics;
-  Diagnostics diagnostics;
-};
-
 PassRun run_refine(Clip& clip, const RobotModel& model, const std::string& options = "") {
-  PassRun out;
-  RobotData data(model);
-  RefinePass pass;
-  for (const std::string& kv : split(options, ","))
-    if (!kv.empty()) pass.options().set(kv.substr(0, kv.find('=')), kv.substr(kv.find('=') + 1), "refine");
-  PassContext ctx{&model, &data, out.statistics, out.diagnostics};
-  pass.run(clip, ctx);
-  return out;
+  return test::run_pass<RefinePass>(clip, model, options, "refine");
 }
 
 // Ground truth known: noisy per-frame "IK" with a velocity spike, both feet planted.

@@ -11,6 +11,7 @@
 #include <random>
 #include <string>
 
+#include "retarget/core/strings.hpp"
 #include "retarget/ik/landmark_ik.hpp"
 #include "retarget/model/kinematics.hpp"
 #include "retarget/model/robot_model.hpp"
@@ -120,6 +121,25 @@ inline void truncate(HumanMotion& human, int frames) {
     t.state.resize(static_cast<std::size_t>(frames));
     if (t.has_orientation) t.R_W.resize(static_cast<std::size_t>(frames));
   }
+}
+
+/// Statistics and diagnostics of one pass run.
+struct PassRun {
+  Statistics statistics;
+  Diagnostics diagnostics;
+};
+
+/// Runs a fresh `PassT` on `clip` with `options` ("k=v,k=v"; `name` is the pass's name in errors).
+template <class PassT>
+PassRun run_pass(Clip& clip, const RobotModel& model, const std::string& options, const std::string& name) {
+  PassRun out;
+  RobotData data(model);
+  PassT pass;
+  for (const std::string& kv : split(options, ","))
+    if (!kv.empty()) pass.options().set(kv.substr(0, kv.find('=')), kv.substr(kv.find('=') + 1), name);
+  PassContext ctx{&model, &data, out.statistics, out.diagnostics};
+  pass.run(clip, ctx);
+  return out;
 }
 
 /// Result of running a clip through the per-frame passes, refine and ground.
