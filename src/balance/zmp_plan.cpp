@@ -60,12 +60,10 @@ ZmpPlan plan_com_zmp(const std::vector<ZmpPlanSample>& samples, const ZmpPlanOpt
     for (int k = 1; k + 1 < K; ++k)
       if (samples[static_cast<std::size_t>(k)].support.empty())
         add_square({{k - 1, k, k + 1, 0}, {1 / dt2, -2 / dt2, 1 / dt2, 0}, 3}, o.flight_acceleration_weight, Vec2::Zero());
-  SparseMat H(n, n);
-  H.setFromTriplets(h_entries.begin(), h_entries.end());  // duplicates are summed
-
-  // ZMP rows: nᵀ(c_k − h (c_{k+1} − 2c_k + c_{k−1}) / dt²) ≤ d − nᵀΔp_k.
+  // ZMP rows: nᵀ(c_k − h (c_{k+1} − 2c_k + c_{k−1}) / dt²) ≤ d − nᵀΔp_k (soft: sparse_qp.hpp).
   std::vector<Eigen::Triplet<double>> a_entries;
   std::vector<double> rhs;
+  std::vector<int> row_sample;
   auto zmp_stencil = [&](int k) -> Stencil {
     const double h = samples[static_cast<std::size_t>(k)].zmp_gain_s2 / dt2;
     if (k == 0 || k == K - 1) return {{k, 0, 0, 0}, {1, 0, 0, 0}, 1};
@@ -81,17 +79,34 @@ ZmpPlan plan_com_zmp(const std::vector<ZmpPlanSample>& samples, const ZmpPlanOpt
         for (int axis = 0; axis < 2; ++axis)
           a_entries.emplace_back(row, 2 * var[static_cast<std::size_t>(st.sample[a])] + axis, hp.n[axis] * st.coefficient[a]);
       rhs.push_back(hp.d - hp.n.dot(s.zmp_offset_W));
+      row_sample.push_back(k);
     }
   }
-  SparseMat A(static_cast<Eigen::Index>(rhs.size()), n);
+  const int m = static_cast<int>(rhs.size());
+  SparseMat H(n, n);
+  H.setFromTriplets(h_entries.begin(), h_entries.end());  // duplicates are summed
+  SparseMat A(m, n);
   A.setFromTriplets(a_entries.begin(), a_entries.end());
-  const VecX b = Eigen::Map<const VecX>(rhs.data(), static_cast<Eigen::Index>(rhs.size()));
+  const VecX b = Eigen::Map<const VecX>(rhs.data(), m);
 
   VecX x;
   ZmpPlan plan;
-  plan.solver = solve_sparse_qp(H, g, A, b, x, o.qp);
+  SparseQpOptions qp = o.qp;
+  qp.penalty = o.violation_weight;
+  plan.solver = solve_sparse_qp(H, g, A, b, x, qp);
+  if (plan.solver.status == SparseQpStatus::Failed) return plan;
   plan.com_W.resize(2, K);
   for (int k = 0; k < K; ++k) plan.com_W.col(k) = x.segment<2>(2 * var[static_cast<std::size_t>(k)]);
+  std::vector<double> sample_violation(static_cast<std::size_t>(K), 0.0);
+  const VecX violation = A * x - b;
+  for (int i = 0; i < m; ++i) {
+    double& v = sample_violation[static_cast<std::size_t>(row_sample[static_cast<std::size_t>(i)])];
+    v = std::max(v, violation[i]);
+  }
+  for (double v : sample_violation) {
+    plan.max_violation_m = std::max(plan.max_violation_m, v);
+    plan.violated_samples += v > 1e-4;
+  }
   plan.zmp_W.resize(2, K);
   for (int k = 0; k < K; ++k) {
     const Stencil st = zmp_stencil(k);

@@ -85,6 +85,7 @@ ComPlanPass::ComPlanPass() {
   table_.add("rest_end", options_.plan.rest_at_end, "plan: COM at rest at the last frame");
   table_.add("smoothing", options_.smoothing_s, "[s] Gaussian low-pass of the pose, swing soles and COM height the IK follows");
   table_.add("swing_smoothing", options_.swing_smoothing_s, "[s] Gaussian low-pass of the swing soles' trajectories (0: as they are)");
+  table_.add("max_offset", options_.max_offset_m, "[m] longest angular-momentum ZMP correction used by the plan");
   table_.add("iterations", options_.iterations, "plan + COM-following rounds of the multibody correction");
   table_.add("com_weight", options_.com_weight, "COM-following IK: weight of the COM target");
   table_.add("foot_weight", options_.foot_weight, "COM-following IK: weight holding the soles");
@@ -185,10 +186,27 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
     const double acc = T >= 3 ? (com_z[i + 1] - 2 * com_z[i] + com_z[i - 1]) * fps * fps : 0.0;
     gain[f] = com_z[f] / std::max(kGravity + acc, 0.1 * kGravity);
   }
+  // Clipped to max_offset: a longer one comes from a glitch of the retargeted motion (a frame whose
+  // limbs flip) or asks for more than any COM motion can give; the ZMP metric still reports it.
+  int clipped_offsets = 0;
   auto angular_part = [&](const MultibodyZmp& z, const Eigen::Matrix2Xd& com_xy) -> Eigen::Matrix2Xd {
-    return gaussian_filter(z.zmp_W - cart_table_zmp(com_xy, gain, fps), sigma);
+    Eigen::Matrix2Xd d = gaussian_filter(z.zmp_W - cart_table_zmp(com_xy, gain, fps), sigma);
+    for (int f = 0; f < T; ++f) {
+      const double len = d.col(f).norm();
+      if (len > options_.max_offset_m) {
+        d.col(f) *= options_.max_offset_m / len;
+        ++clipped_offsets;
+      }
+    }
+    return d;
   };
   Eigen::Matrix2Xd offset = angular_part(smooth, com_in);
+  {
+    std::vector<double> m;
+    for (int f = 0; f < T; ++f) m.push_back(offset.col(f).norm());
+    std::sort(m.begin(), m.end());
+    ctx.statistics.set("angular-zmp-offset", m[m.size() / 2], "m", format("median; p95 %.3f, max %.3f m (first round)", m[m.size() * 95 / 100], m.back()));
+  }
 
   // Planning grid.
   const int K = static_cast<int>(std::floor((T - 1) / fps / dt + 1e-9)) + 1;
@@ -290,15 +308,16 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
   double best_shift = 0;
   int rounds = 0, qp_iterations = 0;
   std::string qp_trouble, round_outside;
+  double max_plan_violation = 0;
   for (int round = 0; round < options_.iterations; ++round) {
     const ZmpPlan plan = plan_com_zmp(samples, plan_options);
     ++rounds;
     qp_iterations += plan.solver.iterations;
-    if (plan.solver.status != SparseQpStatus::Solved) {
-      qp_trouble = format("round %d: %s after %d iterations (largest violation %.1f mm)", round + 1,
-                          sparse_qp_status_name(plan.solver.status), plan.solver.iterations, 1e3 * plan.solver.max_violation);
-      if (plan.solver.status == SparseQpStatus::Failed) break;
-    }
+    if (plan.solver.status != SparseQpStatus::Solved && qp_trouble.empty())
+      qp_trouble = format("round %d: %s after %d iterations", round + 1, sparse_qp_status_name(plan.solver.status),
+                          plan.solver.iterations);
+    if (plan.solver.status == SparseQpStatus::Failed) break;
+    max_plan_violation = std::max(max_plan_violation, plan.max_violation_m);
     Eigen::Matrix2Xd com_target(2, T), zmp_plan(2, T);
     for (int f = 0; f < T; ++f) {
       com_target.col(f) = at_time(plan.com_W, 1 / dt, f / fps);
@@ -308,7 +327,7 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
     const MultibodyZmp realised = multibody_zmp(model, data, followed.q, fps);
     const Score now = score(realised.zmp_W);
     round_outside += format("%s%d", round ? " " : "", now.outside);
-    if (round == 0 || now.better_than(best)) {
+    if (now.better_than(best)) {  // the retargeted motion itself is the first candidate
       best = now;
       best_follow = std::move(followed);
       best_com = com_target;
@@ -329,6 +348,8 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
   clip.cop_predicted_W = best_zmp;
 
   if (!qp_trouble.empty()) ctx.diagnostics.warn(where, "com-plan: the ZMP plan did not converge: " + qp_trouble);
+  if (!best.better_than(before))
+    ctx.diagnostics.warn(where, "com-plan: no plan moved the ZMP into the support on more frames; the motion is left as it was");
   if (best.outside > 0)
     ctx.diagnostics.warn(where, format("com-plan: the multibody ZMP stays outside the support on %d of the stance frames "
                                        "(worst %.1f cm); the motion may be beyond this robot's balance",
@@ -337,12 +358,14 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
     ctx.diagnostics.warn(where, format("com-plan: the COM could not follow the plan on %d frames (worst %.1f cm at %.2f s): "
                                        "joint or velocity limits, or reach with the soles held",
                                        best_follow.missed_frames, 100 * best_follow.max_miss_m, best_follow.max_miss_time_s));
+  ctx.statistics.set("plan-violation-max", max_plan_violation, "m", "planned ZMP beyond its shrunk polygon (soft constraints), all rounds");
+  ctx.statistics.set("clipped-offsets", clipped_offsets, "samples", "multibody corrections clipped to max_offset, all rounds");
   ctx.statistics.set("max-com-shift", best_shift, "m", "largest planned COM move from the retargeted COM");
   int stance_frames = 0;
   for (int f = 1; f + 1 < T; ++f) stance_frames += !frames.polygon[static_cast<std::size_t>(f)].empty();
   ctx.statistics.set("zmp-outside-before", before.outside, "frames", format("of %d stance frames, worst %.3f m", stance_frames, before.worst_m));
   ctx.statistics.set("zmp-outside-after", best.outside, "frames", format("stance frames, worst %.3f m", best.worst_m));
-  ctx.statistics.set("rounds", rounds, "", format("multibody correction rounds (%d QP iterations); frames outside per round: %s", qp_iterations, round_outside.c_str()));
+  ctx.statistics.set("rounds", rounds, "", format("multibody correction rounds (%d QP active-set iterations); frames outside per round: %s", qp_iterations, round_outside.c_str()));
   ctx.statistics.set("frames-not-followed", best_follow.missed_frames, "frames",
                      format("|COM - plan| > %.3f m (worst %.3f m)", options_.follow_tolerance_m, best_follow.max_miss_m));
   ctx.statistics.set("max-sole-move", best_follow.max_foot_error_m, "m", "held soles' largest move");

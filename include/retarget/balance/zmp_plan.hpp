@@ -12,6 +12,10 @@
 ///     minimise  ½ Σ_k w_c ‖c_k − c_ref,k‖² + ½ Σ_k w_j ‖c⃛_k‖² + ½ Σ_flight w_a ‖c̈_k‖²
 ///     subject to  n_iᵀ p_k ≤ d_i  for every half-plane of sample k's polygon,
 ///
+/// the constraints soft with the quadratic penalty ½ w_e max(0, n_iᵀp_k − d_i)² (sparse_qp.hpp): an
+/// angular-momentum burst the cart-table model cannot absorb gives the least violation instead of
+/// no plan; a feasible plan violates by micrometres.
+///
 /// with c̈, c⃛ central/backward finite differences on the grid. "Rest" at an end holds the first
 /// (last) three samples equal: zero velocity and acceleration there, so the ZMP equals the COM.
 /// Samples with no polygon (flight: no foot down) carry no ZMP constraint; their horizontal COM
@@ -40,9 +44,11 @@ struct ZmpPlanOptions {
   /// (w_c / w_j)^(1/6) rad/s: 2e-8 gives 19 rad/s (3 Hz), above walking's COM content (≤ 2 Hz).
   double jerk_weight = 2e-8;
   double flight_acceleration_weight = 1e-3;  ///< w_a [s⁴/m²] on flight samples
+  /// w_e [1/m²]: 1e6 makes 1 mm outside cost as much as a 1 m COM shift.
+  double violation_weight = 1e6;
   bool rest_at_start = true;
   bool rest_at_end = true;
-  SparseQpOptions qp;
+  SparseQpOptions qp;                 ///< iteration limit (its penalty is violation_weight)
 };
 
 struct ZmpPlan {
@@ -51,6 +57,8 @@ struct ZmpPlan {
   SparseQpResult solver;
   double max_shift_m = 0;   ///< max_k ‖c_k − c_ref,k‖
   int max_shift_sample = -1;
+  double max_violation_m = 0;  ///< how far the planned ZMP leaves its shrunk polygon at worst
+  int violated_samples = 0;    ///< samples with a slack above 1e-4 m
 };
 
 /// Plans on `samples` (at least one). The ZMP rows use the grid's own second differences; the first

@@ -30,6 +30,7 @@ namespace rt {
 struct ComPlanPassOptions {
   ZmpPlanOptions plan;                 ///< grid, tracking and jerk weights, rest at the ends
   double margin_m = 0.015;             ///< [m] the planned ZMP keeps this far inside each support polygon
+  double max_offset_m = 0.2;           ///< [m] the multibody correction Δp is clipped to this length
   int iterations = 3;                  ///< plan + COM-following rounds (multibody correction)
   double smoothing_s = 0.03;           ///< [s] σ of the Gaussian low-pass of the pose and the COM height
   double swing_smoothing_s = 0.03;     ///< [s] σ of the low-pass of the swing soles' trajectories (0: as they are)

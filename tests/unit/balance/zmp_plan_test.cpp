@@ -19,7 +19,9 @@ SupportPolygon rectangle(const Vec2& centre, double length, double width) {
   return SupportPolygon::convex_hull(corners);
 }
 
-TEST(SparseQp, AgreesWithTheDenseActiveSetSolver) {
+// With a large penalty the soft-constrained minimiser approaches the hard one (the violation is
+// the constraint force over the penalty).
+TEST(SparseQp, ApproachesTheDenseActiveSetSolution) {
   std::mt19937 rng(11);
   std::normal_distribution<double> u(0.0, 1.0);
   for (int trial = 0; trial < 20; ++trial) {
@@ -40,10 +42,18 @@ TEST(SparseQp, AgreesWithTheDenseActiveSetSolver) {
     // Ax ≤ b with A = −C, b = −d.
     const SparseMat H = Hd.sparseView(), A = MatX(-C).sparseView();
     VecX x;
-    const SparseQpResult r = solve_sparse_qp(H, g, A, -d, x);
+    SparseQpOptions o;
+    o.penalty = 1e8;
+    const SparseQpResult r = solve_sparse_qp(H, g, A, -d, x, o);
     ASSERT_EQ(r.status, SparseQpStatus::Solved) << "trial " << trial;
-    EXPECT_LT((x - x_dense).cwiseAbs().maxCoeff(), 1e-6) << "trial " << trial;
-    EXPECT_LT(r.max_violation, 1e-7);
+    EXPECT_LT((x - x_dense).cwiseAbs().maxCoeff(), 1e-5) << "trial " << trial;
+    EXPECT_LT(r.max_violation, 1e-6);
+    // A smaller penalty violates more, never less.
+    o.penalty = 1e2;
+    VecX x_soft;
+    const SparseQpResult soft = solve_sparse_qp(H, g, A, -d, x_soft, o);
+    ASSERT_EQ(soft.status, SparseQpStatus::Solved);
+    EXPECT_GE(soft.max_violation, r.max_violation);
   }
 }
 
@@ -59,6 +69,7 @@ TEST(ZmpPlan, LeavesAStandingReferenceAlone) {
   const ZmpPlan plan = plan_com_zmp(samples);
   ASSERT_EQ(plan.solver.status, SparseQpStatus::Solved);
   EXPECT_LT(plan.max_shift_m, 1e-3);
+  EXPECT_EQ(plan.violated_samples, 0);
 }
 
 // Double support, then 1 s on the left foot with the reference COM held 10 cm to the right of it
@@ -81,8 +92,9 @@ TEST(ZmpPlan, MovesACentredComOverTheStanceFoot) {
   const ZmpPlan plan = plan_com_zmp(samples);
   ASSERT_EQ(plan.solver.status, SparseQpStatus::Solved);
   for (int k = 100; k < 200; ++k) {
-    EXPECT_LE(left.signed_distance(plan.zmp_W.col(k)), -0.015 + 1e-6) << "sample " << k;
+    EXPECT_LE(left.signed_distance(plan.zmp_W.col(k)), -0.015 + 1e-4) << "sample " << k;
   }
+  EXPECT_LT(plan.max_violation_m, 1e-4);
   // The COM swings towards the left sole (y in [0.05, 0.15]): it may stay short of it, moving
   // dynamically, but not where the reference held it.
   EXPECT_GT(plan.com_W(1, 150), 0.03);
@@ -104,8 +116,8 @@ TEST(ZmpPlan, HonoursTheMultibodyOffset) {
   }
   const ZmpPlan plan = plan_com_zmp(samples);
   ASSERT_EQ(plan.solver.status, SparseQpStatus::Solved);
-  EXPECT_NEAR(plan.com_W(1, 100), 0.05 - 0.02, 1e-4);  // p = c + 0.02 must reach y ≤ 0.05
-  EXPECT_NEAR(plan.zmp_W(1, 100), 0.05, 1e-4);
+  EXPECT_NEAR(plan.com_W(1, 100), 0.05 - 0.02, 2e-4);  // p = c + 0.02 must reach y ≤ 0.05
+  EXPECT_NEAR(plan.zmp_W(1, 100), 0.05, 2e-4);
 }
 
 }  // namespace
