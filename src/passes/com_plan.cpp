@@ -93,6 +93,7 @@ ComPlanPass::ComPlanPass() {
   table_.add("posture_regularization", options_.posture_regularization, "COM-following IK: pull towards the frame's pose");
   table_.add("ik_iterations", options_.ik_iterations, "COM-following IK: iterations per frame");
   table_.add("velocity_margin", options_.velocity_margin, "fraction of each velocity limit the frame-to-frame bounds keep free");
+  table_.add("foot_tolerance", options_.foot_tolerance_m, "[m] a round that moves a held sole further is dropped");
   table_.add("follow_tolerance", options_.follow_tolerance_m, "[m] frames whose COM misses the plan by more are reported");
 }
 
@@ -201,6 +202,14 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
     return d;
   };
   Eigen::Matrix2Xd offset = angular_part(smooth, com_in);
+  auto raw_angular_median = [&](const MultibodyZmp& z) {
+    const Eigen::Matrix2Xd part = z.zmp_W - cart_table_zmp(z.com_W.topRows<2>(), z.zmp_gain_s2, fps);
+    std::vector<double> len;
+    for (int f = 0; f < T; ++f) len.push_back(part.col(f).norm());
+    std::nth_element(len.begin(), len.begin() + T / 2, len.end());
+    return len[static_cast<std::size_t>(T / 2)];
+  };
+  ctx.statistics.set("angular-part-input", raw_angular_median(original), "m", format("median; low-passed input %.3f m", raw_angular_median(smooth)));
   {
     std::vector<double> m;
     for (int f = 0; f < T; ++f) m.push_back(offset.col(f).norm());
@@ -308,6 +317,7 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
   double best_shift = 0;
   int rounds = 0, qp_iterations = 0;
   std::string qp_trouble, round_outside;
+  int rounds_dropping_soles = 0;
   double max_plan_violation = 0;
   for (int round = 0; round < options_.iterations; ++round) {
     const ZmpPlan plan = plan_com_zmp(samples, plan_options);
@@ -326,8 +336,18 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
     Follow followed = follow(com_target);
     const MultibodyZmp realised = multibody_zmp(model, data, followed.q, fps);
     const Score now = score(realised.zmp_W);
-    round_outside += format("%s%d", round ? " " : "", now.outside);
-    if (now.better_than(best)) {  // the retargeted motion itself is the first candidate
+    {
+      const Eigen::Matrix2Xd part = realised.zmp_W - cart_table_zmp(realised.com_W.topRows<2>(), realised.zmp_gain_s2, fps);
+      std::vector<double> len;
+      for (int f = 0; f < T; ++f) len.push_back(part.col(f).norm());
+      std::nth_element(len.begin(), len.begin() + T / 2, len.end());
+      round_outside += format("%s%d (angular part median %.3f m)", round ? ", " : "", now.outside, len[static_cast<std::size_t>(T / 2)]);
+    }
+    // A round is kept only if it holds the soles (stance fixed, swing on its path) and improves
+    // the ZMP; the retargeted motion itself is the first candidate.
+    const bool soles_held = followed.max_foot_error_m <= options_.foot_tolerance_m;
+    if (!soles_held) ++rounds_dropping_soles;
+    if (soles_held && now.better_than(best)) {
       best = now;
       best_follow = std::move(followed);
       best_com = com_target;
@@ -348,8 +368,12 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
   clip.cop_predicted_W = best_zmp;
 
   if (!qp_trouble.empty()) ctx.diagnostics.warn(where, "com-plan: the ZMP plan did not converge: " + qp_trouble);
+  if (rounds_dropping_soles > 0)
+    ctx.diagnostics.warn(where, format("com-plan: %d round(s) dropped: following the plan would have moved a held sole by more "
+                                       "than %.1f mm", rounds_dropping_soles, 1e3 * options_.foot_tolerance_m));
   if (!best.better_than(before))
-    ctx.diagnostics.warn(where, "com-plan: no plan moved the ZMP into the support on more frames; the motion is left as it was");
+    ctx.diagnostics.warn(where, "com-plan: no plan moved the ZMP into the support on more frames with the soles held; the "
+                                "motion is left as it was");
   if (best.outside > 0)
     ctx.diagnostics.warn(where, format("com-plan: the multibody ZMP stays outside the support on %d of the stance frames "
                                        "(worst %.1f cm); the motion may be beyond this robot's balance",

@@ -30,10 +30,10 @@ const PassRegistry& builtin_passes() {
       info<GroundPass>(),
       // com-plan (--com-plan): a whole-clip COM plan over the known footsteps instead of the paper's
       // windowed closed form (com-replan, which clips its shifts to 5 cm and left the ZMP of real
-      // walks outside the soles). Opt-in for now: on CMU 131_01 / G1 it takes the exported ZMP from
-      // 33 % to 80 % of stance frames within 1 cm of the support, but costs ~3 s per 1000 source
-      // frames (the default pipeline's speed targets would not hold) and the low-passed swing soles
-      // scuff the floor on a few frames. com-replan stays for ablation (run after com-plan it
+      // walks outside the soles). Opt-in for now: on the shared gaits (G1) it takes the exported ZMP
+      // from 2-38 % to 41-98 % of stance frames within 1 cm of the support (README), short of the
+      // 98 % bar, at up to +5 cm landmark error, 2-4 s per 1000 source frames (the default
+      // pipeline's speed targets would not hold), and low-passed swing soles that come near the floor. com-replan stays for ablation (run after com-plan it
       // overwrites the planned COM with its own).
       info<ComPlanPass>(false), info<ComReplanPass>(false), info<ResamplePass>(),
   };

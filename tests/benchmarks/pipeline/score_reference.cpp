@@ -11,7 +11,7 @@
 // zmp_near zmp_single_near zmp_inside zmp_outside_max_m (ZMP fractions over stance frames within
 // 1 cm of / inside the support, single support for the second).
 // With SCORE_ZMP_CSV=FILE set, also writes per frame: t, contact left/right, COM x y z, ZMP x y and
-// the ZMP's signed distance from the support polygon (NaN in flight).
+// the ZMP's signed distance from the support polygon (NaN in flight), centroidal angular momentum x y.
 
 #include <algorithm>
 #include <cmath>
@@ -60,14 +60,17 @@ int main(int argc, char** argv) {
       const MultibodyZmp zmp = multibody_zmp(*model, data, q, ref.fps);
       FILE* out = std::fopen(dump, "w");
       if (!out) throw std::runtime_error(std::string("cannot write ") + dump);
-      std::fprintf(out, "t,left,right,com_x,com_y,com_z,zmp_x,zmp_y,distance\n");
+      std::fprintf(out, "t,left,right,com_x,com_y,com_z,zmp_x,zmp_y,distance,L_x,L_y\n");
       for (int k = 0; k < T; ++k) {
         const std::array<bool, 2> down{{ref.contact[0][static_cast<std::size_t>(k)] != 0, ref.contact[1][static_cast<std::size_t>(k)] != 0}};
+        const int a = std::max(k - 1, 0), b = std::min(k + 1, T - 1);
+        const VecX v = b > a ? difference(*model, q.col(a), q.col(b), (b - a) / ref.fps) : VecX::Zero(model->nv());
+        const Vec3 L = centroidal_momentum(*model, data, q.col(k), v).angular_com_W;
         update_kinematics(*model, data, q.col(k));
-        const SupportPolygon poly = stance_support_polygon(*model, data, down);
-        std::fprintf(out, "%.4f,%d,%d,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f\n", k / ref.fps, down[0], down[1], zmp.com_W(0, k),
+        const SupportPolygon poly2 = stance_support_polygon(*model, data, down);
+        std::fprintf(out, "%.4f,%d,%d,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.4f,%.4f\n", k / ref.fps, down[0], down[1], zmp.com_W(0, k),
                      zmp.com_W(1, k), zmp.com_W(2, k), zmp.zmp_W(0, k), zmp.zmp_W(1, k),
-                     poly.empty() ? NAN : poly.signed_distance(zmp.zmp_W.col(k)));
+                     poly2.empty() ? NAN : poly2.signed_distance(zmp.zmp_W.col(k)), L.x(), L.y());
       }
       std::fclose(out);
     }
