@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
+#include <utility>
 
 #include "retarget/core/error.hpp"
 #include "retarget/core/gaussian_filter.hpp"
@@ -107,6 +109,23 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
   if (!(dt > 0 && dt <= 0.1)) throw InputError("com-plan{period}", "must be in (0, 0.1] s");
   if (!(options_.margin_m >= 0 && options_.margin_m < 0.1)) throw InputError("com-plan{margin}", "must be in [0, 0.1) m");
   if (options_.iterations < 1 || options_.iterations > 20) throw InputError("com-plan{iterations}", "must be 1 to 20");
+  if (options_.ik_iterations < 1 || options_.ik_iterations > 1000) throw InputError("com-plan{ik_iterations}", "must be 1 to 1000");
+  if (!(options_.smoothing_s >= 0 && options_.smoothing_s <= 0.5)) throw InputError("com-plan{smoothing}", "must be in [0, 0.5] s");
+  if (!(options_.swing_smoothing_s >= 0 && options_.swing_smoothing_s <= 0.5))
+    throw InputError("com-plan{swing_smoothing}", "must be in [0, 0.5] s");
+  if (!(options_.max_offset_m >= 0 && options_.max_offset_m <= 1)) throw InputError("com-plan{max_offset}", "must be in [0, 1] m");
+  if (!(options_.foot_tolerance_m > 0 && options_.follow_tolerance_m > 0))
+    throw InputError("com-plan{foot_tolerance, follow_tolerance}", "must be > 0 m");
+  for (const auto& [name, value] : {std::pair<const char*, double>{"com_weight", options_.com_weight},
+                                    {"foot_weight", options_.foot_weight},
+                                    {"com_tracking", options_.plan.com_weight}})
+    if (!(value > 0 && value < 1e12)) throw InputError(std::string("com-plan{") + name + "}", "must be in (0, 1e12)");
+  for (const auto& [name, value] : {std::pair<const char*, double>{"jerk", options_.plan.jerk_weight},
+                                    {"flight_acceleration", options_.plan.flight_acceleration_weight},
+                                    {"landmark_factor", options_.landmark_factor},
+                                    {"posture_regularization", options_.posture_regularization}})
+    if (!(value >= 0 && value < 1e12)) throw InputError(std::string("com-plan{") + name + "}", "must be in [0, 1e12)");
+  if (!(options_.velocity_margin < 1)) throw InputError("com-plan{velocity_margin}", "must be below 1");
   const std::string where = clip.human.source.path.empty() ? clip.name : clip.human.source.path;
   const bool labelled = !clip.contacts.empty();
   const MatX q_in = motion.q;
@@ -116,7 +135,7 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
 
   // Per frame: held sole poses and the support polygon of the stance soles. Stance soles stay
   // where they are; a swing sole follows its low-passed trajectory, bent to meet the stance poses
-  // at lift-off and touchdown (the low-pass alone would jump there).
+  // at lift-off and touchdown (the low-pass alone would jump there) and never lower than it was.
   const std::array<Mat3, 2> R_L_sole = sole_frames_in_links(model, data);
   Frames frames;
   frames.soles.resize(static_cast<std::size_t>(T));
@@ -157,6 +176,15 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
         for (int f = a; f <= b; ++f) {
           const double w = static_cast<double>(f - a + 1) / (b - a + 2);
           held.col(f) = low.col(f) - (1 - w) * d_a - w * d_b;
+          // Never lower than the sole was: the low-pass rounds the swing's peak and its ends, where
+          // refine kept the floor clearance.
+          held(2, f) = std::max(held(2, f), sole_pose[k](2, f));
+        }
+        // ... and the kinks of that max rounded off again (a third of the low-pass, within the swing,
+        // whose ends are the stance heights).
+        if (a > 0 && b + 1 < T) {
+          const MatX z = gaussian_filter(held.block(2, a - 1, 1, b - a + 3), options_.swing_smoothing_s * fps / 3);
+          held.block(2, a, 1, b - a + 1) = z.middleCols(1, b - a + 1);
         }
         a = b + 1;
       }

@@ -55,7 +55,7 @@ TEST(ComPlanPass, LeavesAStandingClipWhereItWas) {
 
 // Regression bars at what the pass reaches today on CMU 131_01 (G1), not the acceptance bar
 // (98 % / 95 %): before the plan 33 % of stance frames have their ZMP within 1 cm of the support
-// (2 % in single support), after it 89 % (86 %).
+// (2 % in single support), after it 86 % (80 %).
 TEST(ComPlanPass, MovesTheZmpOfARealWalkIntoTheSupport) {
   RT_REQUIRE_SHARED(clip, "bvh/cmu_max_131_01_start_walk_stop.bvh");
   const std::unique_ptr<RobotModel> model = RobotModel::load("g1");
@@ -63,8 +63,9 @@ TEST(ComPlanPass, MovesTheZmpOfARealWalkIntoTheSupport) {
   const QualityMetrics &before = plain.quality, &after = planned.quality;
   ASSERT_GT(after.zmp_stance_frames, 200);
   EXPECT_LT(before.zmp_near_fraction, 0.5);
-  EXPECT_GT(after.zmp_near_fraction, 0.85);
-  EXPECT_GT(after.zmp_single_near_fraction, 0.8);
+  EXPECT_GT(after.zmp_near_fraction, 0.8);
+  EXPECT_GT(after.zmp_single_near_fraction, 0.75);
+  EXPECT_EQ(after.swing_frames_low, 0);
   EXPECT_GT(after.zmp_single_near_fraction, before.zmp_single_near_fraction + 0.4);
   // The stance feet stay fixed, the limits hold, the landmarks stay close.
   EXPECT_LE(after.foot_skating_max_m, 0.003);
