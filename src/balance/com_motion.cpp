@@ -5,17 +5,19 @@
 #include <vector>
 
 #include "retarget/core/error.hpp"
+#include "retarget/core/limits.hpp"
 
 namespace rt {
 
 std::array<Eigen::Matrix2Xd, 4> com_derivatives(const Eigen::Matrix2Xd& com_W, double rate_hz, double smoothing_s) {
   if (!(smoothing_s >= 0 && smoothing_s <= 10)) throw InputError("reference COM smoothing must be in [0, 10] s");
-  if (!(rate_hz > 0)) throw InputError("reference COM rate must be > 0");
+  check_frame_rate(rate_hz, "reference COM", "the sample rate");
   const auto T = static_cast<int>(com_W.cols());
   Eigen::Matrix2Xd c = com_W;
   const double sigma = smoothing_s * rate_hz;  // in samples
   if (sigma > 1e-3 && T > 1) {
-    const int half = static_cast<int>(std::ceil(3 * sigma));
+    // Beyond the clip's length every tap reads an end sample: no wider kernel than the clip.
+    const int half = static_cast<int>(std::min(std::ceil(3 * sigma), static_cast<double>(T)));
     std::vector<double> kernel(static_cast<std::size_t>(2 * half + 1));
     double sum = 0;
     for (int i = -half; i <= half; ++i) sum += kernel[static_cast<std::size_t>(i + half)] = std::exp(-0.5 * i * i / (sigma * sigma));
