@@ -161,7 +161,7 @@ constexpr Aliases kSideAliases[kSideRoleCount] = {
     {"BHD", {"{S}BHD", "{S}_HDB", "{S}HDB", "{S}PH", "{S}BH"}},
 };
 constexpr Aliases kCentralAliases[kCentralRoleCount] = {
-    {"SACR", {"SACR", "SACRUM", "SAC", "S1", "V_SACR"}},
+    {"SACR", {"SACR", "SACRUM", "SAC", "S1", "V_SACR", "VSAC"}},
     {"C7", {"C7", "CV7", "C7_"}},
     {"T10", {"T10", "TV10", "T8", "TV8", "T12", "TV12"}},
     {"CLAV", {"CLAV", "SJN", "SNJ", "IJ", "JN", "CLAVICLE"}},

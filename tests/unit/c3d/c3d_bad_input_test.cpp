@@ -11,6 +11,7 @@
 
 #include "c3d_test_writer.hpp"
 #include "formats/c3d/c3d_reader.hpp"
+#include "retarget/core/diagnostics.hpp"
 #include "retarget/core/error.hpp"
 #include "retarget/core/file_io.hpp"
 #include "support/test_paths.hpp"
@@ -248,6 +249,57 @@ TEST(C3dBadInput, AbsurdCounts) {
     set_number(b, "POINT:DATA_START", 4000, c3d::DataType::Int16);
     const std::string m = error_of(b.bytes);
     expect_location(m, "POINT:DATA_START");
+  }
+}
+
+// Issue 18 item 4: a count stored as a float (NaN, -1, 1e10, 1e8 with no frames) is a located
+// error at the parameter, never an undefined conversion or a huge label table.
+TEST(C3dBadInput, CountsStoredAsFloats) {
+  for (const double bad : {std::numeric_limits<double>::quiet_NaN(), -1.0, 1e10, 2.5}) {
+    test::C3dSpec s = base_spec();
+    s.point_used_float = true;
+    test::C3dBytes b = test::write_c3d(s);
+    set_number(b, "POINT:USED", bad, c3d::DataType::Float);
+    const std::string m = error_of(b.bytes);
+    expect_location(m, "POINT:USED");
+    EXPECT_NE(m.find("is not a count"), std::string::npos) << m;
+  }
+  {  // 1e8 points and no frames: nothing in the data section bounds the count
+    test::C3dSpec s = base_spec();
+    s.samples.clear();
+    s.point_used_float = true;
+    test::C3dBytes b = test::write_c3d(s);
+    set_number(b, "POINT:USED", 1e8, c3d::DataType::Float);
+    expect_location(error_of(b.bytes), "POINT:USED");
+  }
+  {  // a whole-number float count is read as the count
+    test::C3dSpec s = base_spec();
+    s.point_used_float = true;
+    const c3d::C3dFile f = c3d::parse_c3d(test::write_c3d(s).bytes, "float_used.c3d");
+    EXPECT_EQ(f.points.num_points, 3);
+  }
+  {  // ANALOG:USED and EVENT:USED too
+    test::C3dBytes b = test::write_c3d(base_spec());
+    set_number(b, "EVENT:USED", -3, c3d::DataType::Int16);  // 65533 as unsigned: a count, clipped to the times
+    EXPECT_NO_THROW(c3d::parse_c3d(b.bytes, "events.c3d"));
+  }
+}
+
+// Issue 18 item 4: the header scale and POINT:SCALE disagree in sign (float vs int16 storage);
+// the data section's size decides, with a warning, and the values come out right either way.
+TEST(C3dBadInput, StorageSignDisagreement) {
+  for (const bool float_storage : {true, false}) {
+    const test::C3dSpec s = base_spec(float_storage);
+    const c3d::C3dFile good = c3d::parse_c3d(test::write_c3d(s).bytes, "good.c3d");
+    test::C3dBytes b = test::write_c3d(s);
+    // Flip POINT:SCALE's sign only (the header word 7 keeps the true storage).
+    set_number(b, "POINT:SCALE", float_storage ? 0.1 : -0.1, c3d::DataType::Float);
+    Diagnostics d;
+    const c3d::C3dFile f = c3d::parse_c3d(b.bytes, "flipped.c3d", &d);
+    EXPECT_EQ(f.float_storage, float_storage);
+    EXPECT_GE(d.warning_count(), 1u);
+    ASSERT_EQ(f.points.xyz.size(), good.points.xyz.size());
+    for (std::size_t i = 0; i < f.points.xyz.size(); ++i) EXPECT_NEAR(f.points.xyz[i], good.points.xyz[i], 1e-3) << i;
   }
 }
 
