@@ -210,6 +210,25 @@ TEST(ClipDiscovery, ManifestPathsEscapingTheRootAreRejected) {
   EXPECT_EQ(discover_clips(dir + "/lib/m.yaml")[0].output_name, "in");
 }
 
+// Issue 18 item 9: a manifest's per-clip profile is under the same outside-root rule as its clips
+// (an absolute path to any readable file was opened and its first line echoed in the error).
+TEST(ClipDiscovery, ManifestProfilesEscapingTheRootAreRejected) {
+  const std::string dir = scratch_dir();
+  write_text(dir + "/secret.yaml", "name: secret\n");
+  write_text(dir + "/lib/in.bvh", "x");
+  write_text(dir + "/lib/own.yaml", "name: own\n");
+  for (const std::string& prof : {dir + "/secret.yaml", std::string("../secret.yaml")}) {
+    write_text(dir + "/lib/m.yaml", "clips:\n  - {path: in.bvh, profile: '" + prof + "'}\n");
+    const std::string e = error_of([&] { discover_clips(dir + "/lib/m.yaml"); });
+    EXPECT_NE(e.find("m.yaml:2"), std::string::npos) << prof << ": " << e;
+    EXPECT_NE(e.find("outside the manifest's folder"), std::string::npos) << prof << ": " << e;
+    EXPECT_EQ(discover_clips(dir + "/lib/m.yaml", {true}).size(), 1u) << prof;
+  }
+  write_text(dir + "/lib/m.yaml", "clips:\n  - {path: in.bvh, profile: own.yaml}\n");
+  EXPECT_EQ(*discover_clips(dir + "/lib/m.yaml")[0].overrides.profile,
+            (fs::absolute(dir) / "lib/own.yaml").lexically_normal().string());
+}
+
 TEST(ClipDiscovery, OutputNamesAreChecked) {
   for (const std::string& bad : {std::string(""), std::string("/abs"), std::string("a/../../b"), std::string("a//b"),
                                  std::string("a/"), std::string("./a"), std::string("a\\b"), std::string("a\tb"),
