@@ -16,6 +16,7 @@
 #include <utility>
 
 #include "retarget/core/error.hpp"
+#include "retarget/core/file_io.hpp"
 #include "retarget/core/strings.hpp"
 
 namespace rt {
@@ -138,6 +139,12 @@ void read_with_assimp(const std::string& path, const Vec3& scale, TriangleMesh& 
 TriangleMesh load_mesh(const std::string& path, const MeshLoadOptions& options) {
   if (!options.scale.allFinite() || (options.scale.array() == 0).any())
     throw InputError(path, "mesh scale must be finite and non-zero");
+  require_regular_file(path);
+  std::error_code ec;
+  const std::uintmax_t bytes = std::filesystem::file_size(path, ec);
+  if (ec || bytes > options.max_file_bytes)
+    throw InputError(path, format("mesh file of %.0f bytes is larger than the limit of %.0f MB", static_cast<double>(bytes),
+                                  static_cast<double>(options.max_file_bytes) / (1 << 20)));
   TriangleMesh mesh;
   if (!read_binary_stl(path, options.scale, mesh)) {
     mesh = TriangleMesh();

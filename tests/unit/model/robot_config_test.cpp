@@ -98,6 +98,9 @@ TEST(RobotConfig, SchemaErrorsNameFileLineAndKeyPath) {
   expect_config_error(base + "landmarks:\n  left_knee: {link: left_shank, orientation_weight: 1}\n", 8,
                       "landmarks.left_knee.orientation_weight: landmark 'left_knee' carries no orientation (only "
                       "pelvis, chest, left_ankle and right_ankle do)");
+  // Issue 18 item 12: offsets of 1e300 m ran the check.
+  expect_config_error(base + "landmarks:\n  pelvis: {link: pelvis, offset: [0, 1e300, 0]}\n", 8,
+                      "landmarks.pelvis.offset: 1e+300 m is not between -100 and 100 m");
   expect_config_error(base + "landmarks:\n  pelvis: {link: pelvis, weight: -1}\n", 8,
                       "landmarks.pelvis.weight: weight must be in [0, 1e+06], got -1");
   expect_config_error(base + "landmarks:\n  pelvis: {link: pelvis, offset: [0, 0]}\n", 8,
