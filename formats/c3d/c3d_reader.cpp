@@ -98,6 +98,7 @@ class Parser {
     file_.point_descriptions.resize(static_cast<std::size_t>(file_.points.num_points));
     interpret_point_kinds();
     read_events();
+    choose_integer_scale();
     decode_points();
     return std::move(file_);
   }
@@ -701,6 +702,49 @@ class Parser {
          format("frame %d (file frame %lld), point %d%s%s%s: %s in a sample marked valid", frame,
                 static_cast<long long>(file_.first_frame) + frame, point + 1, label.empty() ? "" : " '",
                 label.c_str(), label.empty() ? "" : "'", what));
+  }
+
+  // Integer data whose header scale and POINT:SCALE disagree in magnitude (c3d.org MACsample:
+  // with POINT:SCALE the shoulder lands at 0.57 m). The one that gives the markers a body's
+  // extent (0.9-3 m across, median over frames) wins, with a warning; if both or neither do, a
+  // located error: a silent conversion at the wrong scale is worse than none.
+  void choose_integer_scale() {
+    const double header = file_.header.scale, param = file_.point_scale;
+    if (file_.float_storage || scale_param_.empty() || !(header > 0) || !(param > 0) ||
+        std::abs(header - param) <= 1e-6 * std::abs(header))
+      return;
+    const std::size_t n = static_cast<std::size_t>(file_.points.num_points);
+    const std::size_t frames = static_cast<std::size_t>(file_.points.num_frames);
+    if (n == 0 || frames == 0) return;
+    std::vector<double> extents;  // per sampled frame, in stored integer counts
+    const std::size_t step = std::max<std::size_t>(1, frames / 200);
+    for (std::size_t f = 0; f < frames; f += step) {
+      const unsigned char* frame = data_ + file_.data_offset + f * file_.frame_bytes;
+      double lo[3] = {1e9, 1e9, 1e9}, hi[3] = {-1e9, -1e9, -1e9};
+      int valid = 0;
+      for (std::size_t i = 0; i < n; ++i) {
+        const unsigned char* q = frame + i * 8;
+        if (dec_.i16(q + 6) < 0) continue;
+        ++valid;
+        for (int a = 0; a < 3; ++a) {
+          lo[a] = std::min(lo[a], static_cast<double>(dec_.i16(q + 2 * a)));
+          hi[a] = std::max(hi[a], static_cast<double>(dec_.i16(q + 2 * a)));
+        }
+      }
+      if (valid >= 3) extents.push_back(std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]}));
+    }
+    if (extents.empty()) return;
+    std::nth_element(extents.begin(), extents.begin() + static_cast<long>(extents.size() / 2), extents.end());
+    const std::string u = to_lower(file_.point_units);
+    const double metres = u == "m" ? 1 : u == "cm" ? 0.01 : 0.001;  // mm, or unknown: as the motion layer assumes
+    const double counts = extents[extents.size() / 2];
+    auto plausible = [&](double scale) { return counts * scale * metres >= 0.9 && counts * scale * metres <= 3; };
+    const std::string says = format("POINT:SCALE %g gives markers %.2f m across, the header's %g gives %.2f m", param,
+                                    counts * param * metres, header, counts * header * metres);
+    if (plausible(header) == plausible(param))
+      fail(scale_offset_, scale_param_, "the point scale is ambiguous: " + says + "; cannot tell which is right");
+    file_.point_scale = plausible(header) ? header : param;
+    warn(scale_offset_, scale_param_, says + format("; using %g", file_.point_scale));
   }
 
   void decode_points() {

@@ -303,6 +303,30 @@ TEST(C3dBadInput, StorageSignDisagreement) {
   }
 }
 
+// Issue 18 item 13: integer data whose header scale and POINT:SCALE disagree (c3d.org MACsample
+// came out 0.39x too small): the scale giving a body's extent wins, with a warning; when neither
+// or both do, a located error rather than a silent conversion at the wrong scale.
+TEST(C3dBadInput, IntegerScaleDisagreementPicksTheBodySizedOne) {
+  test::C3dSpec s = base_spec(false);
+  s.analog_channels = 0;
+  s.samples.clear();
+  for (int f = 0; f < 10; ++f)  // ankle, head, hand: 1.5 m tall at scale 0.1 (counts up to 16000)
+    s.samples.push_back({{{0, 0, 100.0f + f, 1}}, {{0, 0, 1600, 1}}, {{300, 0, 900, 1}}});
+  const c3d::C3dFile good = c3d::parse_c3d(test::write_c3d(s).bytes, "good.c3d");
+  test::C3dBytes b = test::write_c3d(s);
+  set_number(b, "POINT:SCALE", 0.01, c3d::DataType::Float);  // 0.15 m across: not a body
+  Diagnostics d;
+  const c3d::C3dFile f = c3d::parse_c3d(b.bytes, "mac.c3d", &d);
+  EXPECT_NEAR(f.point_scale, 0.1, 1e-7);
+  EXPECT_GE(d.warning_count(), 1u);
+  ASSERT_EQ(f.points.xyz.size(), good.points.xyz.size());
+  for (std::size_t i = 0; i < f.points.xyz.size(); ++i) EXPECT_NEAR(f.points.xyz[i], good.points.xyz[i], 1e-3) << i;
+  set_number(b, "POINT:SCALE", 0.12, c3d::DataType::Float);  // 1.8 m: both plausible
+  const std::string m = error_of(b.bytes);
+  expect_location(m, "POINT:SCALE");
+  EXPECT_NE(m.find("ambiguous"), std::string::npos) << m;
+}
+
 TEST(C3dBadInput, BadNumbers) {
   {  // NaN rate
     test::C3dBytes b = test::write_c3d(base_spec());

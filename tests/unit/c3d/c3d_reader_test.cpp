@@ -339,6 +339,13 @@ TEST(C3dReader, BtkCorpusParameterSectionsAndEvents) {
     EXPECT_DOUBLE_EQ(f.point_rate, 250);
     EXPECT_GE(d.warning_count(), 1u);
   }
+  {  // integer data, header scale and POINT:SCALE disagree: the header's gives a body's size
+    RT_REQUIRE_SHARED(path, "c3d/btkdata/c3dorg_sample06_MACsample.c3d");
+    Diagnostics d;
+    const c3d::C3dFile f = c3d::read_c3d(path, &d);
+    EXPECT_NEAR(f.point_scale, f.header.scale, 1e-7);
+    EXPECT_GE(d.warning_count(), 1u);
+  }
   {  // events in an EVENTS (plural) group
     RT_REQUIRE_SHARED(path, "c3d/btkdata/c3dorg_sample22_BKINtechnologies.c3d");
     const c3d::C3dFile f = c3d::read_c3d(path);
