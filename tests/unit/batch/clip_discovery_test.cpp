@@ -5,6 +5,7 @@
 #include "batch_test_util.hpp"
 #include "retarget/batch/clip_discovery.hpp"
 #include "retarget/core/error.hpp"
+#include "support/text_mutation.hpp"
 
 namespace rt {
 namespace {
@@ -263,6 +264,22 @@ TEST(ClipDiscovery, ExampleManifestsAgree) {
     EXPECT_EQ(a[i].overrides.up_axis, b[i].overrides.up_axis);
   }
   EXPECT_EQ(names(a), (std::vector<std::string>{"stand", "foot_lift_slow", "slow_steps"}));
+}
+
+// Issue 18: seeded mutants of YAML and CSV manifests parse or raise one one-line InputError.
+TEST(ClipDiscovery, MutatedManifestsAreLocatedErrorsOrParse) {
+  const std::string dir = scratch_dir();
+  write_text(dir + "/a.bvh", "x");
+  write_text(dir + "/b.c3d", "x");
+  write_text(dir + "/p.yaml", "name: p\n");
+  const std::string yaml = "clips:\n  - a.bvh\n  - path: b.c3d\n    output: walks/b\n    time_scale: 1.5\n"
+                           "    source_fps: 60\n    up_axis: y\n    profile: p.yaml\n";
+  const std::string csv = "path,output,time_scale,source_units,source_fps,up_axis\na.bvh,a,1,cm,120,y\nb.c3d,,,,,\n";
+  int rejected = test::fuzz_text(yaml, ":{}[],- \n#'\"0123456789.", 181, 800, std::chrono::milliseconds(1500),
+                                 [&](const std::string& t) { parse_manifest(t, dir + "/m.yaml", false, {}); });
+  rejected += test::fuzz_text(csv, ",\n\"0123456789.", 182, 800, std::chrono::milliseconds(1500),
+                              [&](const std::string& t) { parse_manifest(t, dir + "/m.csv", true, {}); });
+  EXPECT_GT(rejected, 0);
 }
 
 }  // namespace

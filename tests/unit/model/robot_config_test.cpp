@@ -10,6 +10,7 @@
 #include "retarget/model/robot_config.hpp"
 #include "retarget/model/robot_model.hpp"
 #include "support/test_paths.hpp"
+#include "support/text_mutation.hpp"
 
 namespace rt {
 namespace {
@@ -202,6 +203,16 @@ TEST(RobotConfig, ProjectRobotConfigsParse) {
     EXPECT_FALSE(c.export_joints.empty());
     EXPECT_FALSE(c.standing_joints.empty());
   }
+}
+
+// Issue 18: seeded mutants of a robot.yaml parse or raise one one-line InputError.
+TEST(RobotConfig, MutatedConfigsAreLocatedErrorsOrParse) {
+  const std::string seed = std::string(kBase) +
+                           "landmarks:\n  pelvis: {link: pelvis, offset: [0, 0, -0.1], weight: 1.0}\n"
+                           "  left_knee: left_shank\nstanding_pose: {joints: {}}\ncontroller: {kp: 36, kd: 12}\n";
+  const int rejected = test::fuzz_text(seed, ":{}[],- \n#'\"0123456789e.", 18, 1500, std::chrono::milliseconds(2000),
+                                       [](const std::string& text) { parse_robot_config(text, fake_path()); });
+  EXPECT_GT(rejected, 0);
 }
 
 }  // namespace
