@@ -611,7 +611,20 @@ class Parser {
     const std::size_t available = size_ - file_.data_offset;
     // Compared by division: frames x frame_bytes may exceed 64 bits for absurd counts.
     if (frames > available / file_.frame_bytes) {
-      const std::size_t complete = available / file_.frame_bytes;
+      std::size_t complete = available / file_.frame_bytes;
+      // The zero bytes that pad the last 512-byte block are no frames (every point at the origin).
+      auto all_zero = [&](std::size_t f) {
+        const unsigned char* p = data_ + file_.data_offset + f * file_.frame_bytes;
+        return std::all_of(p, p + file_.frame_bytes, [](unsigned char c) { return c == 0; });
+      };
+      while (complete > 0 && all_zero(complete - 1)) --complete;
+      if (complete > 0) {  // a cut file: its complete frames are read, as ezc3d does
+        warn(file_.data_offset + complete * file_.frame_bytes, {},
+             format("data section truncated: it holds %zu complete frames of the %zu the header declares; reading "
+                    "those (frame %zu is incomplete)", complete, frames, complete + 1));
+        file_.points.num_frames = static_cast<int>(complete);
+        return;
+      }
       fail(file_.data_offset + complete * file_.frame_bytes, {},
            format("data section truncated: %zu frames of %zu bytes (%d points, %lld analog words per frame, %s) need "
                   "%.0f bytes from 0x%zx, the file has %zu (frame %zu is incomplete)",
