@@ -10,6 +10,7 @@
 #include "formats/c3d/c3d_reader.hpp"
 #include "retarget/core/error.hpp"
 #include "retarget/motion/c3d/c3d_motion.hpp"
+#include "retarget/motion/c3d/marker_trajectories.hpp"
 #include "support/test_paths.hpp"
 #include "synthetic_walker.hpp"
 
@@ -390,6 +391,14 @@ TEST(C3dMotion, BtkCorpusMarkerNamesAndUnits) {
     const HumanMotion m = load_c3d_motion(path, MotionLoadOptions{});
     EXPECT_TRUE(m.has(Landmark::Pelvis));
   }
+  {  // Elite/BTS names with spaces ('r asis', 'r met'): a lower body, not an unknown marker set
+    RT_REQUIRE_SHARED(path, "c3d/btkdata/c3dorg_sample28_dynamic_elite.c3d");
+    const HumanMotion m = load_c3d_motion(path, MotionLoadOptions{});
+    EXPECT_TRUE(m.has(Landmark::Pelvis));
+    EXPECT_TRUE(m.has(Landmark::LeftKnee));
+    EXPECT_TRUE(m.has(Landmark::RightToe));  // from 'r met'
+  }
+  EXPECT_EQ(normalise_marker_name("Subject:r asis "), "RASIS");
   // c3d.org FP1/FP2 store 'mete' (truncated "meters"): metres, with a note, not millimetres.
   const test::Walker w;
   test::C3dSpec spec = w.spec();
