@@ -339,6 +339,10 @@ void Reader::index_xml(const std::string& xml) {
 
 void Reader::check_structure() {
   const std::size_t n = index_.links.size();
+  // Each link becomes a MuJoCo body with its meshes; humanoids have well under 100.
+  constexpr std::size_t kMaxLinks = 1000;
+  if (n > kMaxLinks)
+    fail(index_.links[kMaxLinks].line, "more than " + std::to_string(kMaxLinks) + " links: not a robot this tool can simulate");
   std::vector<int> parent_joint(n, -1);
   for (std::size_t j = 0; j < index_.joints.size(); ++j) {
     const XmlJoint& x = index_.joints[j];

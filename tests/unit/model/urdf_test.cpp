@@ -146,13 +146,19 @@ TEST(UrdfBroken, HostileInputsFailFastWithoutCrashing) {
   EXPECT_EQ(r.links.size(), 100u);
   EXPECT_EQ(r.joints[98].type, UrdfJointType::Continuous);
   // Issue 18 item 5: a 20,000-link chain overflowed the MJCF writer's stack; the depth is checked
-  // first (in linear time), at the joint of the first link too deep.
+  // first (in linear time), at the joint of the first link too deep, and the number of links.
   try {
-    read_urdf_string(chain(20000), "chain.urdf", ".");
+    read_urdf_string(chain(500), "chain.urdf", ".");
     FAIL() << "accepted";
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()), "chain.urdf:101: the kinematic tree is more than 100 links deep at link 'l100' "
                                      "(joint 'j100'); a robot is about 10 deep");
+  }
+  try {
+    read_urdf_string(chain(20000), "chain.urdf", ".");
+    FAIL() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "chain.urdf:1001: more than 1000 links: not a robot this tool can simulate");
   }
   // Issue 18 items 11, 12: 200,000 attributes on one element (quadratic in tinyxml), geometry of
   // 1e300 and a UTF-16 file.
