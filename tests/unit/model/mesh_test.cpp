@@ -7,6 +7,7 @@
 
 #include <mujoco/mujoco.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -155,6 +156,18 @@ TEST(Mesh, OversizedAndNonRegularFilesAreRefusedUnread) {
   MeshLoadOptions small;
   small.max_file_bytes = 100;
   EXPECT_THROW(load_mesh(mesh_file("torso.stl"), small), InputError);
+  // An OBJ face of 2000 corners (assimp's triangulation is quadratic in them): refused at its line.
+  std::string obj = "# a polygon\n";
+  for (int i = 0; i < 2000; ++i) obj += "v " + std::to_string(std::cos(i * 0.00314)) + " " + std::to_string(std::sin(i * 0.00314)) + " 0\n";
+  obj += "f";
+  for (int i = 1; i <= 2000; ++i) obj += " " + std::to_string(i);
+  write_file_atomic(dir + "/polygon.obj", obj + "\n");
+  try {
+    load_mesh(dir + "/polygon.obj");
+    FAIL() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), dir + "/polygon.obj:2002: a face with 2000 corners (at most 1000): not a robot mesh");
+  }
   const std::string fifo = dir + "/pipe.stl";
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0644), 0);
   EXPECT_THROW(load_mesh(fifo), InputError);
