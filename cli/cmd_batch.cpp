@@ -162,7 +162,8 @@ Command setup_batch(CLI::App& parent) {
   app->add_flag("--keep-tpose", b.convert.keep_tpose, "Keep a synthetic T-pose at the start")->group(g);
   app->add_option("--package-path", b.convert.package_paths, "Extra root folder for package:// URIs (repeatable)")->group(g);
   app->footer(
-      "Outputs per clip in OUTDIR: <name>.csv/.npz, <name>.meta.json, <name>.log, <name>.report/ (with --check);\n"
+      "Outputs per clip in OUTDIR: <name>.csv/.npz, <name>.meta.json, <name>.log, <name>.report/ (with --check),\n"
+      "<name>.complete (written last: the clip is up to date only with it);\n"
       "plus summary.json, summary.csv and index.html (summary-shard-I-of-N.* and index-shard-I-of-N.html with --shard).\n"
       "Exit status: 0 every clip ok or up to date; 1 some clip failed its check; 2 some clip had bad input or failed\n"
       "otherwise (crashed, timeout, out of memory, ...) -- 2 takes precedence over 1; 128+N when stopped by signal N.");
