@@ -79,6 +79,12 @@ void print_summary(const ConvertResult& r, bool verbose) {
                       q.swing_frames_low, kSwingClearance_m, q.frame0_sole_tilt_deg, q.frame0_sole_height_m);
   std::cout << format("  contacts    %d frames without a stance foot (longest %.2f s)\n", q.frames_without_stance,
                       q.longest_flight_s);
+  if (q.zmp_stance_frames > 0)
+    std::cout << format("  zmp         %.0f %% of %d stance frames within %.0f cm of the support (%.0f %% inside); single support "
+                        "%.0f %% within (%.0f %% inside); worst %.3f m outside at %.2f s\n",
+                        100 * q.zmp_near_fraction, q.zmp_stance_frames, 100 * kZmpNear_m, 100 * q.zmp_inside_fraction,
+                        100 * q.zmp_single_near_fraction, 100 * q.zmp_single_inside_fraction, q.zmp_outside_max_m,
+                        q.zmp_outside_time_s);
   std::cout << format("  limits      %d position violations, %d velocity violations (fastest: %s at %.2f, %.2fx its limit)\n",
                       q.position_limit_violations, q.velocity_limit_violations, q.fastest_joint.c_str(),
                       q.fastest_joint_speed, q.max_velocity_ratio);

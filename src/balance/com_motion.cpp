@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "retarget/core/error.hpp"
+#include "retarget/core/gaussian_filter.hpp"
 #include "retarget/core/limits.hpp"
 
 namespace rt {
@@ -13,21 +14,7 @@ std::array<Eigen::Matrix2Xd, 4> com_derivatives(const Eigen::Matrix2Xd& com_W, d
   if (!(smoothing_s >= 0 && smoothing_s <= 10)) throw InputError("reference COM smoothing must be in [0, 10] s");
   check_frame_rate(rate_hz, "reference COM", "the sample rate");
   const auto T = static_cast<int>(com_W.cols());
-  Eigen::Matrix2Xd c = com_W;
-  const double sigma = smoothing_s * rate_hz;  // in samples
-  if (sigma > 1e-3 && T > 1) {
-    // Beyond the clip's length every tap reads an end sample: no wider kernel than the clip.
-    const int half = static_cast<int>(std::min(std::ceil(3 * sigma), static_cast<double>(T)));
-    std::vector<double> kernel(static_cast<std::size_t>(2 * half + 1));
-    double sum = 0;
-    for (int i = -half; i <= half; ++i) sum += kernel[static_cast<std::size_t>(i + half)] = std::exp(-0.5 * i * i / (sigma * sigma));
-    for (double& k : kernel) k /= sum;
-    Eigen::Matrix2Xd smoothed = Eigen::Matrix2Xd::Zero(2, T);
-    for (int k = 0; k < T; ++k)
-      for (int i = -half; i <= half; ++i)
-        smoothed.col(k) += kernel[static_cast<std::size_t>(i + half)] * com_W.col(std::clamp(k + i, 0, T - 1));
-    c = smoothed;
-  }
+  const Eigen::Matrix2Xd c = gaussian_filter(com_W, smoothing_s * rate_hz);
   std::array<Eigen::Matrix2Xd, 4> d;
   const double dt = 1.0 / rate_hz;
   for (std::size_t order = 0; order < d.size(); ++order) {

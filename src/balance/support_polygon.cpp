@@ -62,6 +62,25 @@ bool SupportPolygon::contains(const Vec2& p, double margin_m) const {
   return true;
 }
 
+std::vector<HalfPlane> SupportPolygon::half_planes(double margin_m) const {
+  std::vector<HalfPlane> out;
+  const std::size_t n = vertices_.size();
+  if (n < 3) return out;
+  const Vec2 c = centroid();
+  double inner = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec2 e = vertices_[(i + 1) % n] - vertices_[i];
+    HalfPlane h;
+    h.n = Vec2(e.y(), -e.x()) / edge_length_[i];  // right of a counter-clockwise edge: outward
+    h.d = h.n.dot(vertices_[i]);
+    inner = std::min(inner, h.d - h.n.dot(c));
+    out.push_back(h);
+  }
+  const double margin = std::clamp(margin_m, 0.0, 0.5 * std::max(inner, 0.0));
+  for (HalfPlane& h : out) h.d -= margin;
+  return out;
+}
+
 double SupportPolygon::area() const {
   double a = 0;
   const std::size_t n = vertices_.size();

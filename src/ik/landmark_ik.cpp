@@ -93,13 +93,19 @@ MatX LandmarkIk::targets_normal_matrix(RobotData& data, const std::vector<IkTarg
 }
 
 IkResult LandmarkIk::solve(RobotData& data, const std::vector<IkTarget>& targets, const VecX& q_prev, VecX& q,
-                           const IkComTarget& com, const IkFloorTerm& floor) const {
+                           const IkComTarget& com, const IkFloorTerm& floor, const IkJointBounds* bounds) const {
   const RobotModel& model = *model_;
   const mjModel* m = model.mj();
   const int nv = model.nv(), nu = model.nu();
   RT_DEMAND(q.size() == model.nq() && q_prev.size() == model.nq(), "LandmarkIk::solve: configuration size");
-  const VecX lo = model.q_lower().array() + options_.joint_limit_margin;
-  const VecX hi = model.q_upper().array() - options_.joint_limit_margin;
+  VecX lo = model.q_lower().array() + options_.joint_limit_margin;
+  VecX hi = model.q_upper().array() - options_.joint_limit_margin;
+  if (bounds) {
+    RT_DEMAND(bounds->lower.size() == nu && bounds->upper.size() == nu, "LandmarkIk::solve: bounds size");
+    // An empty intersection (a bound outside the URDF range) collapses onto the URDF limit.
+    lo = lo.cwiseMax(bounds->lower.cwiseMin(hi));
+    hi = hi.cwiseMin(bounds->upper.cwiseMax(lo));
+  }
   for (int i = 0; i < nu; ++i) q[7 + i] = std::clamp(q[7 + i], std::min(lo[i], hi[i]), std::max(lo[i], hi[i]));
 
   const double reg = options_.regularization;

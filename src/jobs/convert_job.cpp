@@ -66,7 +66,15 @@ nlohmann::json quality_json(const QualityMetrics& q) {
           {"jitter_rad_s3", q.jitter_rad_s3},
           {"jitter_per_frame_ik_rad_s3", q.jitter_per_frame_ik_rad_s3},
           {"frame0_sole_tilt_deg", q.frame0_sole_tilt_deg},
-          {"frame0_sole_height_m", q.frame0_sole_height_m}};
+          {"frame0_sole_height_m", q.frame0_sole_height_m},
+          {"zmp_stance_frames", q.zmp_stance_frames},
+          {"zmp_single_support_frames", q.zmp_single_support_frames},
+          {"zmp_inside_fraction", q.zmp_inside_fraction},
+          {"zmp_within_1cm_fraction", q.zmp_near_fraction},
+          {"zmp_single_support_inside_fraction", q.zmp_single_inside_fraction},
+          {"zmp_single_support_within_1cm_fraction", q.zmp_single_near_fraction},
+          {"zmp_outside_max_m", q.zmp_outside_max_m},
+          {"zmp_outside_time_s", q.zmp_outside_time_s}};
 }
 
 // The pipeline run_convert runs for a request (the spec string records every option).

@@ -4,10 +4,12 @@
 #include <cmath>
 #include <limits>
 
+#include "retarget/model/centroidal.hpp"
 #include "retarget/model/collision_hull.hpp"
 #include "retarget/model/kinematics.hpp"
 #include "retarget/model/robot_model.hpp"
 #include "retarget/passes/flat_contact.hpp"
+#include "retarget/passes/stance_support.hpp"
 
 namespace rt {
 
@@ -157,7 +159,40 @@ QualityMetrics foot_metrics(const RobotModel& model, RobotData& data, const MatX
     m.frame0_sole_tilt_deg = std::max(m.frame0_sole_tilt_deg, tilt * 180 / M_PI);
     if (std::abs(height) > std::abs(m.frame0_sole_height_m)) m.frame0_sole_height_m = height;
   }
+  add_zmp_metrics(model, data, q, fps, contacts, m);
   return m;
+}
+
+void add_zmp_metrics(const RobotModel& model, RobotData& data, const MatX& q, double fps,
+                     const std::array<std::vector<std::uint8_t>, 2>& contacts, QualityMetrics& m) {
+  const int T = static_cast<int>(q.cols());
+  if (T < 3 || contacts[0].size() != static_cast<std::size_t>(T) || contacts[1].size() != static_cast<std::size_t>(T)) return;
+  const MultibodyZmp zmp = multibody_zmp(model, data, q, fps);
+  int inside = 0, near = 0, single_inside = 0, single_near = 0;
+  m.zmp_stance_frames = m.zmp_single_support_frames = 0;
+  m.zmp_outside_max_m = 0;
+  for (int f = 1; f + 1 < T; ++f) {
+    const std::array<bool, 2> down{{contacts[0][static_cast<std::size_t>(f)] != 0, contacts[1][static_cast<std::size_t>(f)] != 0}};
+    if (!down[0] && !down[1]) continue;
+    update_kinematics(model, data, q.col(f));
+    const double d = stance_support_polygon(model, data, down).signed_distance(zmp.zmp_W.col(f));
+    const bool single = down[0] != down[1];
+    ++m.zmp_stance_frames;
+    m.zmp_single_support_frames += single;
+    inside += d <= 0;
+    near += d <= kZmpNear_m;
+    single_inside += single && d <= 0;
+    single_near += single && d <= kZmpNear_m;
+    if (d > m.zmp_outside_max_m) {
+      m.zmp_outside_max_m = d;
+      m.zmp_outside_time_s = f / fps;
+    }
+  }
+  auto fraction = [](int n, int of) { return of > 0 ? static_cast<double>(n) / of : 1.0; };
+  m.zmp_inside_fraction = fraction(inside, m.zmp_stance_frames);
+  m.zmp_near_fraction = fraction(near, m.zmp_stance_frames);
+  m.zmp_single_inside_fraction = fraction(single_inside, m.zmp_single_support_frames);
+  m.zmp_single_near_fraction = fraction(single_near, m.zmp_single_support_frames);
 }
 
 double frame_landmark_error_m(const RobotModel& model, RobotData& data, const LandmarkTargets& targets, const VecXCRef& q,

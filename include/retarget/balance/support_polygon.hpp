@@ -9,6 +9,12 @@
 
 namespace rt {
 
+/// {p : nᵀ p ≤ d}: n a unit outward normal, d [m].
+struct HalfPlane {
+  Vec2 n = Vec2::Zero();
+  double d = 0;
+};
+
 class SupportPolygon {
  public:
   SupportPolygon() = default;
@@ -27,6 +33,10 @@ class SupportPolygon {
   double signed_distance(const Vec2& p) const;
   /// Whether p lies inside, at least margin_m from the boundary (signed_distance(p) ≤ −margin_m).
   bool contains(const Vec2& p, double margin_m = 0.0) const;
+  /// The polygon shrunk by margin_m as half-planes (one per edge, outward normals). The margin is
+  /// capped at half the distance from the centroid to the nearest edge, so a small polygon shrinks
+  /// but never vanishes. Empty for degenerate hulls (fewer than 3 vertices).
+  std::vector<HalfPlane> half_planes(double margin_m = 0.0) const;
   /// Closest point on the boundary.
   Vec2 closest_boundary_point(const Vec2& p) const;
   /// Where the segment from `inside` to `outside` leaves the polygon (paper Fig. 6: the border

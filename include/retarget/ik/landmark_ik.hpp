@@ -62,6 +62,13 @@ struct IkFloorTerm {
   std::array<int, 2> skip_links{{-1, -1}};  ///< links left out (stance feet held by their targets)
 };
 
+/// Optional per-solve joint bounds (nu each, movable-joint order), intersected with the URDF limits:
+/// e.g. a velocity bound around the previous frame's solution.
+struct IkJointBounds {
+  VecX lower;
+  VecX upper;
+};
+
 struct IkResult {
   BoundedLmResult solver;
   double rms_error_m = 0;   ///< weighted RMS position error over the targets with weight > 0
@@ -79,7 +86,8 @@ class LandmarkIk {
   /// Solves one frame in place: `q` is the warm start and the result (nq); `q_prev` the
   /// regularisation anchor. Joint values outside the limits in the warm start are clamped first.
   IkResult solve(RobotData& data, const std::vector<IkTarget>& targets, const VecX& q_prev, VecX& q,
-                 const IkComTarget& com = {}, const IkFloorTerm& floor = {}) const;
+                 const IkComTarget& com = {}, const IkFloorTerm& floor = {},
+                 const IkJointBounds* bounds = nullptr) const;
 
   /// Gauss–Newton matrix Σ w JᵀJ (nv x nv, v order) of the targets' residuals at q: how much the
   /// target cost grows, to second order, for a change of q (the refine pass weighs its foot

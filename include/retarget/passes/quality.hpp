@@ -79,7 +79,24 @@ struct QualityMetrics {
   /// feet labelled in contact there (all feet when there are no labels).
   double frame0_sole_tilt_deg = 0;
   double frame0_sole_height_m = 0;
+  /// Multibody ZMP (model/centroidal.hpp: finite differences of the exported frames, URDF masses
+  /// and inertias) against the support polygon of the soles labelled in contact on the frame (hull
+  /// of their sole rectangles where the feet are), over stance frames other than the clip's first
+  /// and last: fraction of frames with the ZMP inside, and within kZmpNear_m of it; the same over
+  /// single-support frames; the largest distance outside [m] and its time [s]. Fractions are 1 when
+  /// there are no such frames (no labels).
+  int zmp_stance_frames = 0;
+  int zmp_single_support_frames = 0;
+  double zmp_inside_fraction = 1;
+  double zmp_near_fraction = 1;
+  double zmp_single_inside_fraction = 1;
+  double zmp_single_near_fraction = 1;
+  double zmp_outside_max_m = 0;
+  double zmp_outside_time_s = 0;
 };
+
+/// "Near the support" for the ZMP metric [m].
+constexpr double kZmpNear_m = 0.01;
 
 /// Swing frames this close to a lift-off or touchdown [s] are exempt from the clearance metric.
 constexpr double kSwingGuard_s = 0.1;
@@ -89,10 +106,15 @@ constexpr double kSwingClearance_m = 0.015;
 QualityMetrics compute_quality(const RobotModel& model, RobotData& data, const Clip& clip);
 
 /// The foot and floor metrics (skating, stance yaw/tilt/height, penetration, lowest point, swing
-/// clearance, frames without stance, frame-0 flatness) of a motion `q` (nq x T) at `fps` with its
+/// clearance, frames without stance, frame-0 flatness, ZMP) of a motion `q` (nq x T) at `fps` with its
 /// contact labels (may be empty); the other fields of the result stay 0.
 QualityMetrics foot_metrics(const RobotModel& model, RobotData& data, const MatX& q, double fps,
                             const std::array<std::vector<std::uint8_t>, 2>& contacts);
+
+/// The ZMP fields of QualityMetrics for a motion `q` (nq x T) at `fps` with its contact labels
+/// (written into `m`; nothing when the labels are empty). Updates `data`.
+void add_zmp_metrics(const RobotModel& model, RobotData& data, const MatX& q, double fps,
+                     const std::array<std::vector<std::uint8_t>, 2>& contacts, QualityMetrics& m);
 
 /// Landmark error of one frame [m]: the mean distance between the scaled landmark targets valid at
 /// `frame` and the robot points they map to at configuration `q` (the per-frame value of

@@ -7,7 +7,11 @@
 //
 // Prints one line: landmark_median_m drift_max_m heel_drift_max_m yaw_max_deg tilt_max_deg
 // height_max_m lowest_point_m swing_frames_low frames_without_stance velocity_violations (frames x
-// joints at the reference's own rate; the convert summary counts them at the source rate).
+// joints at the reference's own rate; the convert summary counts them at the source rate)
+// zmp_near zmp_single_near zmp_inside zmp_outside_max_m (ZMP fractions over stance frames within
+// 1 cm of / inside the support, single support for the second).
+// With SCORE_ZMP_CSV=FILE set, also writes per frame: t, contact left/right, COM x y z, ZMP x y and
+// the ZMP's signed distance from the support polygon (NaN in flight).
 
 #include <algorithm>
 #include <cmath>
@@ -16,11 +20,14 @@
 #include <string>
 #include <vector>
 
+#include "retarget/model/centroidal.hpp"
+#include "retarget/model/kinematics.hpp"
 #include "retarget/model/robot_data.hpp"
 #include "retarget/model/robot_model.hpp"
 #include "retarget/motion/load_motion.hpp"
 #include "retarget/passes/quality.hpp"
 #include "retarget/passes/registry.hpp"
+#include "retarget/passes/stance_support.hpp"
 #include "retarget/pipeline/pipeline.hpp"
 #include "retarget/reference/reference_io.hpp"
 
@@ -49,6 +56,21 @@ int main(int argc, char** argv) {
       for (std::size_t c = 0; c < order.size(); ++c) q(7 + order[c], k) = ref.joint_pos(static_cast<Eigen::Index>(c), k);
     }
     const QualityMetrics m = foot_metrics(*model, data, q, ref.fps, ref.contact);
+    if (const char* dump = std::getenv("SCORE_ZMP_CSV"); dump && ref.has_contacts()) {
+      const MultibodyZmp zmp = multibody_zmp(*model, data, q, ref.fps);
+      FILE* out = std::fopen(dump, "w");
+      if (!out) throw std::runtime_error(std::string("cannot write ") + dump);
+      std::fprintf(out, "t,left,right,com_x,com_y,com_z,zmp_x,zmp_y,distance\n");
+      for (int k = 0; k < T; ++k) {
+        const std::array<bool, 2> down{{ref.contact[0][static_cast<std::size_t>(k)] != 0, ref.contact[1][static_cast<std::size_t>(k)] != 0}};
+        update_kinematics(*model, data, q.col(k));
+        const SupportPolygon poly = stance_support_polygon(*model, data, down);
+        std::fprintf(out, "%.4f,%d,%d,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f\n", k / ref.fps, down[0], down[1], zmp.com_W(0, k),
+                     zmp.com_W(1, k), zmp.com_W(2, k), zmp.zmp_W(0, k), zmp.zmp_W(1, k),
+                     poly.empty() ? NAN : poly.signed_distance(zmp.zmp_W.col(k)));
+      }
+      std::fclose(out);
+    }
     std::vector<double> errors;
     for (int k = 0; k < T; ++k) {
       const int f = static_cast<int>(std::lround(k * clip.human.fps / ref.fps));  // resample keeps t = 0
@@ -62,9 +84,10 @@ int main(int argc, char** argv) {
     for (int k = 1; k < T; ++k)
       for (int i = 0; i < model->nu(); ++i)
         velocity += limit[i] > 0 && std::abs(q(7 + i, k) - q(7 + i, k - 1)) * ref.fps > limit[i] * (1 + 1e-9);
-    std::printf("%.4f %.4f %.4f %.2f %.2f %.4f %.4f %d %d %d\n", errors.empty() ? 0.0 : errors[errors.size() / 2],
+    std::printf("%.4f %.4f %.4f %.2f %.2f %.4f %.4f %d %d %d %.3f %.3f %.3f %.3f\n", errors.empty() ? 0.0 : errors[errors.size() / 2],
                 m.foot_skating_max_m, m.heel_skating_max_m, m.stance_yaw_drift_max_deg, m.stance_tilt_max_deg,
-                m.stance_height_max_m, m.lowest_point_m, m.swing_frames_low, m.frames_without_stance, velocity);
+                m.stance_height_max_m, m.lowest_point_m, m.swing_frames_low, m.frames_without_stance, velocity,
+                m.zmp_near_fraction, m.zmp_single_near_fraction, m.zmp_inside_fraction, m.zmp_outside_max_m);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "score_reference: %s\n", e.what());
     return 2;

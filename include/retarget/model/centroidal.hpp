@@ -1,0 +1,43 @@
+#pragma once
+/// Centroidal momentum and the multibody ZMP of a motion (design.md §6 "ZMP"; issue 14).
+///
+/// The ground must supply the rate of change of the robot's momentum against gravity. With total
+/// mass m, COM c, centroidal angular momentum L (about c) and the floor at z = 0, the point where
+/// the horizontal moment of that wrench vanishes is
+///
+///     p_x = c_x − (c_z c̈_x + L̇_y / m) / (g + c̈_z),     p_y = c_y − (c_z c̈_y − L̇_x / m) / (g + c̈_z).
+///
+/// This is the ZMP the balance controller must realise with the feet's contact forces; a motion is
+/// dynamically feasible on flat ground only where p lies in the support polygon.
+
+#include "retarget/core/types.hpp"
+#include "retarget/model/robot_data.hpp"
+
+namespace rt {
+
+class RobotModel;
+
+struct CentroidalMomentum {
+  Vec3 com_W = Vec3::Zero();               ///< [m]
+  Vec3 linear_W = Vec3::Zero();            ///< [kg m/s] m ċ
+  Vec3 angular_com_W = Vec3::Zero();       ///< [kg m²/s] about the COM, world axes
+};
+
+/// Centroidal momentum at (q, v) (mj_comVel + mj_subtreeVel on the root body). Updates `data`.
+CentroidalMomentum centroidal_momentum(const RobotModel& model, RobotData& data, const VecXCRef& q, const VecXCRef& v);
+
+/// Multibody ZMP of a sampled motion: per frame, COM and ZMP from finite differences of the
+/// configurations q (nq x T, uniform rate fps): v by central differences of q, c̈ by second
+/// differences of the COM, L̇ by central differences of L. Frames 0 and T − 1 (and every frame when
+/// T < 3) reuse their neighbour's derivatives; metrics leave them out.
+struct MultibodyZmp {
+  Mat3X com_W;               ///< [m] 3 x T
+  Eigen::Matrix2Xd zmp_W;    ///< [m] 2 x T
+  Eigen::VectorXd zmp_gain_s2;  ///< per frame c_z / (g + c̈_z) [s²] (the cart-table height over g)
+};
+MultibodyZmp multibody_zmp(const RobotModel& model, RobotData& data, const MatX& q, double fps);
+
+/// Standard gravity used by the ZMP [m/s²].
+inline constexpr double kGravity = 9.81;
+
+}  // namespace rt

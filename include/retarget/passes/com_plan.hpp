@@ -1,0 +1,61 @@
+#pragma once
+/// `com-plan` pass (issue 14, design.md §3.4; default, after refine and ground): makes the
+/// exported motion dynamically feasible on flat ground by planning the whole clip's horizontal COM
+/// over its known footsteps and moving the body onto that plan.
+///
+///  1. Support: per source frame, the hull of the sole rectangles of the feet labelled in contact
+///     (stance_support.hpp), shrunk by `margin`; no constraint on flight frames.
+///  2. Plan (zmp_plan.hpp): on a `period` grid, the COM closest to the retargeted COM (with a jerk
+///     penalty) whose cart-table ZMP, plus the multibody correction Δp, stays in the support; rest
+///     at both ends.
+///  3. COM-following IK per frame: both soles held (stance soles where they are, swing soles on
+///     their low-passed trajectory), the COM on the plan (its height on the low-passed height),
+///     the other landmarks as secondary targets, a pull towards the low-passed pose, joint limits
+///     and velocity limits (around the previous frame) as bounds. The ZMP is a second derivative:
+///     at 30 fps a 0.1 mm COM wobble moves it by about 2.5 cm, so everything the IK follows is
+///     low-passed (`smoothing`) and the IK converges to micrometres.
+///  4. Multibody correction (two-stage preview, Kajita et al. 2003): the whole-body ZMP of the
+///     motion from 3 (centroidal.hpp) minus the plan's cart-table ZMP is the next plan's Δp; 2-4
+///     repeat until that ZMP is inside the (unshrunk) support on every stance frame, or
+///     `iterations` times. The motion with the best ZMP is kept.
+///
+/// The planned COM (3 x T: plan x, y; realised z) and the plan's ZMP go to the reference
+/// (meta.json `com_pos_w`, `zmp_w`; NPZ `com_pos_w`, `zmp_w`) as the balance reference.
+
+#include "retarget/balance/zmp_plan.hpp"
+#include "retarget/pipeline/pass.hpp"
+
+namespace rt {
+
+struct ComPlanPassOptions {
+  ZmpPlanOptions plan;                 ///< grid, tracking and jerk weights, rest at the ends
+  double margin_m = 0.015;             ///< [m] the planned ZMP keeps this far inside each support polygon
+  double max_offset_m = 0.2;           ///< [m] the multibody correction Δp is clipped to this length
+  int iterations = 3;                  ///< plan + COM-following rounds (multibody correction)
+  double smoothing_s = 0.03;           ///< [s] σ of the Gaussian low-pass of the pose and the COM height
+  double swing_smoothing_s = 0.03;     ///< [s] σ of the low-pass of the swing soles' trajectories (0: as they are)
+  double com_weight = 1e6;             ///< COM-following IK: weight of the COM target [1/m²]
+  double foot_weight = 1e8;            ///< ... weight holding each sole's pose (>> com_weight: feet win)
+  double landmark_factor = 0.1;        ///< ... factor on the robot.yaml weights of the non-foot landmarks
+  double posture_regularization = 1e-2;  ///< ... pull towards the frame's own configuration
+  int ik_iterations = 20;
+  double velocity_margin = 0.02;       ///< fraction of each URDF velocity limit the frame-to-frame bounds keep free
+  double follow_tolerance_m = 0.001;   ///< [m] frames whose COM misses the plan by more are reported
+};
+
+class ComPlanPass final : public Pass {
+ public:
+  ComPlanPass();
+  std::string name() const override { return "com-plan"; }
+  std::string description() const override {
+    return "plan the whole clip's COM so its multibody ZMP stays in the support polygon; COM-following IK with feet fixed";
+  }
+  OptionTable& options() override { return table_; }
+  void run(Clip& clip, PassContext& context) override;
+
+ private:
+  ComPlanPassOptions options_;
+  OptionTable table_;
+};
+
+}  // namespace rt

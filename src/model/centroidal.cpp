@@ -1,0 +1,63 @@
+#include "retarget/model/centroidal.hpp"
+
+#include <algorithm>
+
+#include <mujoco/mujoco.h>
+
+#include "retarget/core/error.hpp"
+#include "retarget/model/kinematics.hpp"
+#include "retarget/model/robot_model.hpp"
+
+namespace rt {
+
+CentroidalMomentum centroidal_momentum(const RobotModel& model, RobotData& data, const VecXCRef& q, const VecXCRef& v) {
+  RT_DEMAND(q.size() == model.nq() && v.size() == model.nv(), "centroidal_momentum: q or v has the wrong size");
+  const mjModel* m = model.mj();
+  mjData* d = data.mj();
+  mju_copy(d->qpos, q.data(), m->nq);
+  mju_copy(d->qvel, v.data(), m->nv);
+  mj_kinematics(m, d);
+  mj_comPos(m, d);
+  mj_comVel(m, d);
+  mj_subtreeVel(m, d);
+  const int b = model.root_body();
+  CentroidalMomentum out;
+  out.com_W = Eigen::Map<const Vec3>(d->subtree_com + 3 * b);
+  out.linear_W = m->body_subtreemass[b] * Eigen::Map<const Vec3>(d->subtree_linvel + 3 * b);
+  out.angular_com_W = Eigen::Map<const Vec3>(d->subtree_angmom + 3 * b);
+  return out;
+}
+
+MultibodyZmp multibody_zmp(const RobotModel& model, RobotData& data, const MatX& q, double fps) {
+  const int T = static_cast<int>(q.cols());
+  RT_DEMAND(q.rows() == model.nq() && T > 0 && fps > 0, "multibody_zmp: bad motion");
+  const double mass = model.mj()->body_subtreemass[model.root_body()];
+  Mat3X com(3, T), L(3, T);
+  for (int f = 0; f < T; ++f) {
+    const int a = std::max(f - 1, 0), b = std::min(f + 1, T - 1);
+    const VecX v = b > a ? difference(model, q.col(a), q.col(b), (b - a) / fps) : VecX::Zero(model.nv());
+    const CentroidalMomentum h = centroidal_momentum(model, data, q.col(f), v);
+    com.col(f) = h.com_W;
+    L.col(f) = h.angular_com_W;
+  }
+  MultibodyZmp out;
+  out.com_W = com;
+  out.zmp_W.resize(2, T);
+  out.zmp_gain_s2.resize(T);
+  for (int f = 0; f < T; ++f) {
+    const int i = std::clamp(f, 1, std::max(T - 2, 1));  // ends reuse their neighbour's derivatives
+    Vec3 acc = Vec3::Zero(), dL = Vec3::Zero();
+    if (T >= 3) {
+      acc = (com.col(i + 1) - 2 * com.col(i) + com.col(i - 1)) * fps * fps;
+      dL = (L.col(i + 1) - L.col(i - 1)) * (0.5 * fps);
+    }
+    const double fz = std::max(kGravity + acc.z(), 0.1 * kGravity);  // a robot in free fall has no ZMP
+    const Vec3& c = com.col(f);
+    out.zmp_W(0, f) = c.x() - (c.z() * acc.x() + dL.y() / mass) / fz;
+    out.zmp_W(1, f) = c.y() - (c.z() * acc.y() - dL.x() / mass) / fz;
+    out.zmp_gain_s2[f] = c.z() / fz;
+  }
+  return out;
+}
+
+}  // namespace rt

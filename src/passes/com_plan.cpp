@@ -1,0 +1,376 @@
+#include "retarget/passes/com_plan.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "retarget/core/error.hpp"
+#include "retarget/core/gaussian_filter.hpp"
+#include "retarget/core/strings.hpp"
+#include "retarget/ik/landmark_ik.hpp"
+#include "retarget/model/centroidal.hpp"
+#include "retarget/model/kinematics.hpp"
+#include "retarget/model/robot_model.hpp"
+#include "retarget/passes/ik_pass.hpp"
+#include "retarget/passes/stance_support.hpp"
+
+namespace rt {
+
+namespace {
+
+// Column of a per-frame signal at time t [s] (linear interpolation, clamped to the clip).
+template <class M>
+Eigen::Matrix<double, M::RowsAtCompileTime, 1> at_time(const M& cols, double fps, double t) {
+  const int T = static_cast<int>(cols.cols());
+  const double s = std::clamp(t * fps, 0.0, static_cast<double>(T - 1));
+  const int i = std::min(static_cast<int>(s), T - 1), j = std::min(i + 1, T - 1);
+  return (1 - (s - i)) * cols.col(i) + (s - i) * cols.col(j);
+}
+
+// Cart-table ZMP c − h c̈ per frame, with c̈ the same second differences multibody_zmp uses.
+Eigen::Matrix2Xd cart_table_zmp(const Eigen::Matrix2Xd& com_W, const VecX& gain_s2, double fps) {
+  const int T = static_cast<int>(com_W.cols());
+  Eigen::Matrix2Xd p = com_W;
+  if (T < 3) return p;
+  for (int f = 0; f < T; ++f) {
+    const int i = std::clamp(f, 1, T - 2);
+    p.col(f) -= gain_s2[f] * (com_W.col(i + 1) - 2 * com_W.col(i) + com_W.col(i - 1)) * fps * fps;
+  }
+  return p;
+}
+
+// The motion low-passed coordinate by coordinate (σ in samples): root quaternions are first put on
+// one hemisphere and renormalised after; joints stay inside their limits (a convex combination).
+MatX smooth_motion(const MatX& q, double sigma) {
+  MatX aligned = q;
+  for (Eigen::Index f = 1; f < q.cols(); ++f)
+    if (aligned.col(f).segment<4>(3).dot(aligned.col(f - 1).segment<4>(3)) < 0) aligned.col(f).segment<4>(3) *= -1;
+  MatX out = gaussian_filter(aligned, sigma);
+  for (Eigen::Index f = 0; f < q.cols(); ++f) out.col(f).segment<4>(3).normalize();
+  return out;
+}
+
+// Whether `link` is a foot's sole link or hangs below one (toes): its landmarks are held by the sole targets.
+bool on_a_foot(const RobotModel& model, int link) {
+  for (int l = link; l >= 0;) {
+    for (const Sole& s : model.soles())
+      if (s.link == l) return true;
+    const int j = model.links()[static_cast<std::size_t>(l)].parent_joint;
+    l = j < 0 ? -1 : model.joints()[static_cast<std::size_t>(j)].parent_link;
+  }
+  return false;
+}
+
+struct Follow {
+  MatX q;
+  int missed_frames = 0;       ///< |COM − plan| > follow tolerance
+  double max_miss_m = 0;
+  double max_miss_time_s = 0;
+  double max_foot_error_m = 0;  ///< largest sole-centre move from its held pose
+};
+
+struct Frames {
+  std::vector<std::array<IkTarget, 2>> soles;  ///< held sole poses per frame
+  std::vector<SupportPolygon> polygon;         ///< unshrunk support per frame (empty: flight)
+};
+
+}  // namespace
+
+ComPlanPass::ComPlanPass() {
+  table_.add("period", options_.plan.period_s, "[s] planning grid", {0.001, 0.1, "s"});
+  table_.add("margin", options_.margin_m, "[m] the planned ZMP keeps this far inside the support polygon");
+  table_.add("com_tracking", options_.plan.com_weight, "plan: weight of |c - c_retargeted|^2 [1/m^2]");
+  table_.add("jerk", options_.plan.jerk_weight, "plan: weight of |c'''|^2 [s^6/m^2] (2e-8: 3 Hz low-pass)");
+  table_.add("flight_acceleration", options_.plan.flight_acceleration_weight, "plan: weight of |c''|^2 on flight samples");
+  table_.add("rest_start", options_.plan.rest_at_start, "plan: COM at rest at the first frame");
+  table_.add("rest_end", options_.plan.rest_at_end, "plan: COM at rest at the last frame");
+  table_.add("smoothing", options_.smoothing_s, "[s] Gaussian low-pass of the pose, swing soles and COM height the IK follows",
+             {0, 1, "s"});
+  table_.add("swing_smoothing", options_.swing_smoothing_s, "[s] Gaussian low-pass of the swing soles' trajectories (0: as they are)",
+             {0, 1, "s"});
+  table_.add("max_offset", options_.max_offset_m, "[m] longest angular-momentum ZMP correction used by the plan");
+  table_.add("iterations", options_.iterations, "plan + COM-following rounds of the multibody correction", {0, 100, ""});
+  table_.add("com_weight", options_.com_weight, "COM-following IK: weight of the COM target");
+  table_.add("foot_weight", options_.foot_weight, "COM-following IK: weight holding the soles");
+  table_.add("landmark_factor", options_.landmark_factor, "COM-following IK: factor on the other landmarks' weights");
+  table_.add("posture_regularization", options_.posture_regularization, "COM-following IK: pull towards the frame's pose");
+  table_.add("ik_iterations", options_.ik_iterations, "COM-following IK: iterations per frame", {1, 10000, ""});
+  table_.add("velocity_margin", options_.velocity_margin, "fraction of each velocity limit the frame-to-frame bounds keep free");
+  table_.add("follow_tolerance", options_.follow_tolerance_m, "[m] frames whose COM misses the plan by more are reported");
+}
+
+void ComPlanPass::run(Clip& clip, PassContext& ctx) {
+  const RobotModel& model = ctx.model();
+  RobotData& data = ctx.data();
+  RobotMotion& motion = clip.motion;
+  const int T = motion.num_frames();
+  if (T == 0) throw InputError("--passes", "com-plan needs the robot motion of the ik pass: put ik before com-plan");
+  const double fps = motion.fps, dt = options_.plan.period_s;
+  if (!(dt > 0 && dt <= 0.1)) throw InputError("com-plan{period}", "must be in (0, 0.1] s");
+  if (!(options_.margin_m >= 0 && options_.margin_m < 0.1)) throw InputError("com-plan{margin}", "must be in [0, 0.1) m");
+  if (options_.iterations < 1 || options_.iterations > 20) throw InputError("com-plan{iterations}", "must be 1 to 20");
+  const std::string where = clip.human.source.path.empty() ? clip.name : clip.human.source.path;
+  const bool labelled = !clip.contacts.empty();
+  const MatX q_in = motion.q;
+
+  // What the COM-following IK follows, low-passed (see the header).
+  const MatX q_smooth = smooth_motion(q_in, options_.smoothing_s * fps);
+
+  // Per frame: held sole poses and the support polygon of the stance soles. Stance soles stay
+  // where they are; a swing sole follows its low-passed trajectory, bent to meet the stance poses
+  // at lift-off and touchdown (the low-pass alone would jump there).
+  const std::array<Mat3, 2> R_L_sole = sole_frames_in_links(model, data);
+  Frames frames;
+  frames.soles.resize(static_cast<std::size_t>(T));
+  frames.polygon.resize(static_cast<std::size_t>(T));
+  std::vector<std::vector<HalfPlane>> shrunk(static_cast<std::size_t>(T));
+  std::array<MatX, 2> sole_pose;  // per foot: 7 x T, position and quaternion (w, x, y, z)
+  for (auto& p : sole_pose) p.resize(7, T);
+  for (int f = 0; f < T; ++f) {
+    update_kinematics(model, data, q_in.col(f));
+    std::array<bool, 2> down{{true, true}};
+    for (std::size_t k = 0; k < 2; ++k) {
+      if (labelled) down[k] = clip.contacts.in_contact[k][static_cast<std::size_t>(f)] != 0;
+      const Sole& sole = model.soles()[k];
+      const Iso3 X = link_pose(model, data, sole.link);
+      const Quat R(X.linear() * R_L_sole[k]);
+      sole_pose[k].col(f) << X * sole.p_L_center, R.w(), R.x(), R.y(), R.z();
+      if (f > 0 && sole_pose[k].col(f).tail<4>().dot(sole_pose[k].col(f - 1).tail<4>()) < 0) sole_pose[k].col(f).tail<4>() *= -1;
+    }
+    frames.polygon[static_cast<std::size_t>(f)] = stance_support_polygon(model, data, down);
+    shrunk[static_cast<std::size_t>(f)] = frames.polygon[static_cast<std::size_t>(f)].half_planes(options_.margin_m);
+  }
+  for (std::size_t k = 0; k < 2; ++k) {
+    MatX held = sole_pose[k];
+    if (labelled && options_.swing_smoothing_s > 0) {
+      const MatX low = gaussian_filter(sole_pose[k], options_.swing_smoothing_s * fps);
+      const auto& c = clip.contacts.in_contact[k];
+      for (int a = 0; a < T;) {
+        if (c[static_cast<std::size_t>(a)]) {
+          ++a;
+          continue;
+        }
+        int b = a;
+        while (b + 1 < T && !c[static_cast<std::size_t>(b + 1)]) ++b;
+        // Swing a..b: the low-passed poses minus the mismatch at the stance frames around it,
+        // blended linearly across the swing.
+        const VecX d_a = a > 0 ? VecX(low.col(a - 1) - held.col(a - 1)) : VecX::Zero(7);
+        const VecX d_b = b + 1 < T ? VecX(low.col(b + 1) - held.col(b + 1)) : VecX::Zero(7);
+        for (int f = a; f <= b; ++f) {
+          const double w = static_cast<double>(f - a + 1) / (b - a + 2);
+          held.col(f) = low.col(f) - (1 - w) * d_a - w * d_b;
+        }
+        a = b + 1;
+      }
+    }
+    for (int f = 0; f < T; ++f) {
+      const Sole& sole = model.soles()[k];
+      IkTarget& t = frames.soles[static_cast<std::size_t>(f)][k];
+      t.link = sole.link;
+      t.p_L = sole.p_L_center;
+      t.p_W = held.col(f).head<3>();
+      t.weight = options_.foot_weight;
+      t.R_L_frame = R_L_sole[k];
+      t.R_W = Quat(held(3, f), held(4, f), held(5, f), held(6, f)).normalized();
+      t.orientation_weight = options_.foot_weight;
+    }
+  }
+
+  // The low-passed motion's multibody ZMP: its COM, the COM height to hold (low-passed once more),
+  // the cart-table gain of that height, and the angular-momentum part of the ZMP.
+  const double sigma = options_.smoothing_s * fps;
+  const MultibodyZmp original = multibody_zmp(model, data, q_in, fps);
+  const MultibodyZmp smooth = multibody_zmp(model, data, q_smooth, fps);
+  const Eigen::Matrix2Xd com_in = smooth.com_W.topRows<2>();
+  const VecX com_z = gaussian_filter(smooth.com_W.row(2), sigma).row(0).transpose();
+  VecX gain(T);
+  for (int f = 0; f < T; ++f) {
+    const int i = std::clamp(f, 1, std::max(T - 2, 1));
+    const double acc = T >= 3 ? (com_z[i + 1] - 2 * com_z[i] + com_z[i - 1]) * fps * fps : 0.0;
+    gain[f] = com_z[f] / std::max(kGravity + acc, 0.1 * kGravity);
+  }
+  // Clipped to max_offset: a longer one comes from a glitch of the retargeted motion (a frame whose
+  // limbs flip) or asks for more than any COM motion can give; the ZMP metric still reports it.
+  int clipped_offsets = 0;
+  auto angular_part = [&](const MultibodyZmp& z, const Eigen::Matrix2Xd& com_xy) -> Eigen::Matrix2Xd {
+    Eigen::Matrix2Xd d = gaussian_filter(z.zmp_W - cart_table_zmp(com_xy, gain, fps), sigma);
+    for (int f = 0; f < T; ++f) {
+      const double len = d.col(f).norm();
+      if (len > options_.max_offset_m) {
+        d.col(f) *= options_.max_offset_m / len;
+        ++clipped_offsets;
+      }
+    }
+    return d;
+  };
+  Eigen::Matrix2Xd offset = angular_part(smooth, com_in);
+  {
+    std::vector<double> m;
+    for (int f = 0; f < T; ++f) m.push_back(offset.col(f).norm());
+    std::sort(m.begin(), m.end());
+    ctx.statistics.set("angular-zmp-offset", m[m.size() / 2], "m", format("median; p95 %.3f, max %.3f m (first round)", m[m.size() * 95 / 100], m.back()));
+  }
+
+  // Planning grid.
+  const int K = static_cast<int>(std::floor((T - 1) / fps / dt + 1e-9)) + 1;
+  std::vector<ZmpPlanSample> samples(static_cast<std::size_t>(K));
+  for (int k = 0; k < K; ++k) {
+    ZmpPlanSample& s = samples[static_cast<std::size_t>(k)];
+    const double t = k * dt;
+    s.com_ref_W = at_time(com_in, fps, t);
+    s.zmp_gain_s2 = at_time(gain.transpose(), fps, t)[0];
+    s.zmp_offset_W = at_time(offset, fps, t);
+    s.support = shrunk[static_cast<std::size_t>(std::clamp(static_cast<int>(std::lround(t * fps)), 0, T - 1))];
+  }
+  ZmpPlanOptions plan_options = options_.plan;
+  plan_options.period_s = dt;
+
+  // COM-following IK.
+  IkOptions ik_options;
+  ik_options.max_iterations = options_.ik_iterations;
+  ik_options.regularization = options_.posture_regularization;
+  ik_options.step_tolerance = 1e-9;  // micrometres: see the header
+  ik_options.cost_tolerance = 1e-10;
+  const LandmarkIk ik(model, ik_options);
+  const bool have_landmarks = clip.targets[Landmark::Pelvis].present && clip.targets[Landmark::Pelvis].p_W.cols() == T;
+  const VecX& v_max = model.velocity_limits();
+  // Each frame starts from the low-passed pose plus the previous frame's correction.
+  auto follow = [&](const Eigen::Matrix2Xd& com_target) {
+    Follow out;
+    out.q = q_in;
+    VecX correction = VecX::Zero(model.nv());
+    IkJointBounds bounds;
+    bounds.lower.resize(model.nu());
+    bounds.upper.resize(model.nu());
+    std::vector<IkTarget> targets;
+    for (int f = 0; f < T; ++f) {
+      const VecX q_frame = q_smooth.col(f);
+      targets.assign(frames.soles[static_cast<std::size_t>(f)].begin(), frames.soles[static_cast<std::size_t>(f)].end());
+      if (have_landmarks)
+        for (IkTarget t : make_ik_targets(model, ik, clip.targets, f, 0.5)) {
+          if (on_a_foot(model, t.link)) continue;
+          t.weight *= options_.landmark_factor;
+          t.orientation_weight *= options_.landmark_factor;
+          targets.push_back(t);
+        }
+      IkComTarget com;
+      com.p_W << com_target.col(f), com_z[f];
+      com.weight = options_.com_weight;
+      com.horizontal_only = false;
+      const IkJointBounds* b = nullptr;
+      if (f > 0) {
+        for (int i = 0; i < model.nu(); ++i) {
+          const double step = v_max[i] > 0 ? std::max((1 - options_.velocity_margin) * v_max[i] / fps,
+                                                      std::abs(q_in(7 + i, f) - q_in(7 + i, f - 1)))
+                                           : INFINITY;
+          bounds.lower[i] = out.q(7 + i, f - 1) - step;
+          bounds.upper[i] = out.q(7 + i, f - 1) + step;
+        }
+        b = &bounds;
+      }
+      VecX q = integrate(model, q_frame, correction, 1.0);
+      ik.solve(data, targets, q_frame, q, com, {}, b);
+      update_kinematics(model, data, q);
+      const double miss = (com_position(model, data) - com.p_W).norm();
+      if (miss > options_.follow_tolerance_m) ++out.missed_frames;
+      if (miss > out.max_miss_m) {
+        out.max_miss_m = miss;
+        out.max_miss_time_s = f / fps;
+      }
+      for (const IkTarget& s : frames.soles[static_cast<std::size_t>(f)])
+        out.max_foot_error_m = std::max(out.max_foot_error_m, (link_point(model, data, s.link, s.p_L) - s.p_W).norm());
+      correction = difference(model, q_frame, q, 1.0);
+      out.q.col(f) = q;
+    }
+    return out;
+  };
+
+  // ZMP outside the unshrunk support, over stance frames (the metric's frames).
+  struct Score {
+    int outside = 0;
+    double worst_m = 0;
+    bool better_than(const Score& o) const { return outside < o.outside || (outside == o.outside && worst_m < o.worst_m); }
+  };
+  auto score = [&](const Eigen::Matrix2Xd& zmp) {
+    Score s;
+    for (int f = 1; f + 1 < T; ++f) {
+      const SupportPolygon& p = frames.polygon[static_cast<std::size_t>(f)];
+      if (p.empty()) continue;
+      const double d = p.signed_distance(zmp.col(f));
+      s.outside += d > 0;
+      s.worst_m = std::max(s.worst_m, d);
+    }
+    return s;
+  };
+  const Score before = score(original.zmp_W);
+
+  Score best = before;
+  Follow best_follow;
+  best_follow.q = q_in;
+  Eigen::Matrix2Xd best_com = com_in, best_zmp = original.zmp_W;
+  double best_shift = 0;
+  int rounds = 0, qp_iterations = 0;
+  std::string qp_trouble, round_outside;
+  double max_plan_violation = 0;
+  for (int round = 0; round < options_.iterations; ++round) {
+    const ZmpPlan plan = plan_com_zmp(samples, plan_options);
+    ++rounds;
+    qp_iterations += plan.solver.iterations;
+    if (plan.solver.status != SparseQpStatus::Solved && qp_trouble.empty())
+      qp_trouble = format("round %d: %s after %d iterations", round + 1, sparse_qp_status_name(plan.solver.status),
+                          plan.solver.iterations);
+    if (plan.solver.status == SparseQpStatus::Failed) break;
+    max_plan_violation = std::max(max_plan_violation, plan.max_violation_m);
+    Eigen::Matrix2Xd com_target(2, T), zmp_plan(2, T);
+    for (int f = 0; f < T; ++f) {
+      com_target.col(f) = at_time(plan.com_W, 1 / dt, f / fps);
+      zmp_plan.col(f) = at_time(plan.zmp_W, 1 / dt, f / fps);
+    }
+    Follow followed = follow(com_target);
+    const MultibodyZmp realised = multibody_zmp(model, data, followed.q, fps);
+    const Score now = score(realised.zmp_W);
+    round_outside += format("%s%d", round ? " " : "", now.outside);
+    if (now.better_than(best)) {  // the retargeted motion itself is the first candidate
+      best = now;
+      best_follow = std::move(followed);
+      best_com = com_target;
+      best_zmp = zmp_plan;
+      best_shift = plan.max_shift_m;
+    }
+    if (now.outside == 0) break;
+    // Two-stage preview: the next plan's offset is what the multibody motion adds to this plan's
+    // cart-table ZMP.
+    offset = angular_part(realised, com_target);
+    for (int k = 0; k < K; ++k) samples[static_cast<std::size_t>(k)].zmp_offset_W = at_time(offset, fps, k * dt);
+  }
+
+  motion.q = best_follow.q;
+  clip.com_replanned_W.resize(3, T);
+  clip.com_replanned_W.topRows<2>() = best_com;
+  clip.com_replanned_W.row(2) = com_z.transpose();
+  clip.cop_predicted_W = best_zmp;
+
+  if (!qp_trouble.empty()) ctx.diagnostics.warn(where, "com-plan: the ZMP plan did not converge: " + qp_trouble);
+  if (!best.better_than(before))
+    ctx.diagnostics.warn(where, "com-plan: no plan moved the ZMP into the support on more frames; the motion is left as it was");
+  if (best.outside > 0)
+    ctx.diagnostics.warn(where, format("com-plan: the multibody ZMP stays outside the support on %d of the stance frames "
+                                       "(worst %.1f cm); the motion may be beyond this robot's balance",
+                                       best.outside, 100 * best.worst_m));
+  if (best_follow.missed_frames > 0)
+    ctx.diagnostics.warn(where, format("com-plan: the COM could not follow the plan on %d frames (worst %.1f cm at %.2f s): "
+                                       "joint or velocity limits, or reach with the soles held",
+                                       best_follow.missed_frames, 100 * best_follow.max_miss_m, best_follow.max_miss_time_s));
+  ctx.statistics.set("plan-violation-max", max_plan_violation, "m", "planned ZMP beyond its shrunk polygon (soft constraints), all rounds");
+  ctx.statistics.set("clipped-offsets", clipped_offsets, "samples", "multibody corrections clipped to max_offset, all rounds");
+  ctx.statistics.set("max-com-shift", best_shift, "m", "largest planned COM move from the retargeted COM");
+  int stance_frames = 0;
+  for (int f = 1; f + 1 < T; ++f) stance_frames += !frames.polygon[static_cast<std::size_t>(f)].empty();
+  ctx.statistics.set("zmp-outside-before", before.outside, "frames", format("of %d stance frames, worst %.3f m", stance_frames, before.worst_m));
+  ctx.statistics.set("zmp-outside-after", best.outside, "frames", format("stance frames, worst %.3f m", best.worst_m));
+  ctx.statistics.set("rounds", rounds, "", format("multibody correction rounds (%d QP active-set iterations); frames outside per round: %s", qp_iterations, round_outside.c_str()));
+  ctx.statistics.set("frames-not-followed", best_follow.missed_frames, "frames",
+                     format("|COM - plan| > %.3f m (worst %.3f m)", options_.follow_tolerance_m, best_follow.max_miss_m));
+  ctx.statistics.set("max-sole-move", best_follow.max_foot_error_m, "m", "held soles' largest move");
+}
+
+}  // namespace rt

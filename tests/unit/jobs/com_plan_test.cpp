@@ -1,0 +1,82 @@
+// The com-plan pass (issue 14) end to end: on a real walk the exported motion's multibody ZMP
+// (quality.hpp, the summary's definition) moves into the support on far more stance frames while
+// the stance feet stay fixed and the limits hold; a standing clip is left where it was; the
+// reference carries the planned COM and ZMP.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "retarget/jobs/convert_job.hpp"
+#include "retarget/model/kinematics.hpp"
+#include "retarget/model/robot_data.hpp"
+#include "retarget/model/robot_model.hpp"
+#include "support/test_paths.hpp"
+
+namespace rt {
+namespace {
+
+ConvertResult convert(const RobotModel& model, const std::string& clip, bool com_plan) {
+  ConvertRequest request;
+  request.clip_path = clip;
+  request.write_outputs = false;
+  if (com_plan) request.enabled_passes = {"com-plan"};
+  return run_convert(request, model);
+}
+
+const PassRecord* find_pass(const ConvertResult& r, const std::string& name) {
+  for (const PassRecord& p : r.passes)
+    if (p.name == name) return &p;
+  return nullptr;
+}
+
+TEST(ComPlanPass, LeavesAStandingClipWhereItWas) {
+  const std::unique_ptr<RobotModel> model = RobotModel::load(test::source_path("robots/humanoid25"));
+  const std::string clip = test::source_path("examples/clips/stand.bvh");
+  const ConvertResult plain = convert(*model, clip, false), planned = convert(*model, clip, true);
+  ASSERT_NE(find_pass(planned, "com-plan"), nullptr);
+  EXPECT_EQ(find_pass(plain, "com-plan"), nullptr);  // opt-in
+  const Reference &a = plain.clip.reference, &b = planned.clip.reference;
+  ASSERT_EQ(a.num_frames(), b.num_frames());
+  RobotData data(*model);
+  double com_moved = 0;
+  for (int f = 0; f < planned.clip.motion.num_frames(); ++f) {
+    update_kinematics(*model, data, plain.clip.motion.q.col(f));
+    const Vec3 c0 = com_position(*model, data);
+    update_kinematics(*model, data, planned.clip.motion.q.col(f));
+    com_moved = std::max(com_moved, (com_position(*model, data) - c0).norm());
+  }
+  EXPECT_LT(com_moved, 1e-3);
+  EXPECT_LT((a.root_pos_W - b.root_pos_W).cwiseAbs().maxCoeff(), 2e-3);
+  EXPECT_DOUBLE_EQ(planned.quality.zmp_near_fraction, 1.0);
+  EXPECT_EQ(b.com_W.cols(), b.num_frames());
+  EXPECT_EQ(b.cop_W.cols(), b.num_frames());
+}
+
+// Regression bars at what the pass reaches today on CMU 131_01 (G1), not the issue's acceptance bar
+// (98 % / 95 %): before the plan 33 % of stance frames have their ZMP within 1 cm of the support
+// (2 % in single support), after it about 80 % (70 %).
+TEST(ComPlanPass, MovesTheZmpOfARealWalkIntoTheSupport) {
+  RT_REQUIRE_SHARED(clip, "bvh/cmu_max_131_01_start_walk_stop.bvh");
+  const std::unique_ptr<RobotModel> model = RobotModel::load("g1");
+  const ConvertResult plain = convert(*model, clip, false), planned = convert(*model, clip, true);
+  const QualityMetrics &before = plain.quality, &after = planned.quality;
+  ASSERT_GT(after.zmp_stance_frames, 200);
+  EXPECT_LT(before.zmp_near_fraction, 0.5);
+  EXPECT_GT(after.zmp_near_fraction, 0.7);
+  EXPECT_GT(after.zmp_single_near_fraction, 0.6);
+  EXPECT_GT(after.zmp_single_near_fraction, before.zmp_single_near_fraction + 0.4);
+  // The stance feet stay fixed, the limits hold, the landmarks stay close.
+  EXPECT_LE(after.foot_skating_max_m, 0.003);
+  EXPECT_LE(after.stance_height_max_m, 0.002);
+  EXPECT_EQ(after.position_limit_violations, 0);
+  EXPECT_EQ(after.velocity_limit_violations, 0);
+  EXPECT_LT(after.landmark_error_median_m, before.landmark_error_median_m + 0.02);
+  const PassRecord* pass = find_pass(planned, "com-plan");
+  ASSERT_NE(pass, nullptr);
+  EXPECT_LT(pass->statistics.get("zmp-outside-after"), pass->statistics.get("zmp-outside-before"));
+  EXPECT_GT(pass->statistics.get("max-com-shift"), 0.01);
+}
+
+}  // namespace
+}  // namespace rt
