@@ -178,7 +178,7 @@ TEST(Cli, HostileRatesAndOptionsExit2WithTheRangeInWords) {
   }
 
   // Pipelines missing a pass, and pass options that size work.
-  for (const char* passes : {"refine", "ik", "ground", "resample", "com-replan"})
+  for (const char* passes : {"refine", "ik", "ground", "resample", "com-replan", "com-plan"})
     expect_usage("convert " + clip + " " + robot + " --passes " + passes, "--passes: ");
   expect_usage("convert " + clip + " " + robot + " --passes 'scale,ik,com-replan{period=1e-9}'",
                "option period: 1e-09 is not between 0.001 and 0.1 s");
