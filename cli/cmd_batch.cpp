@@ -13,6 +13,7 @@
 
 #include "cli/command.hpp"
 #include "cli/exit_codes.hpp"
+#include "cli/numeric_option.hpp"
 #include "retarget/batch/batch_runner.hpp"
 #include "retarget/batch/worker_process.hpp"
 #include "retarget/core/error.hpp"
@@ -115,22 +116,28 @@ Command setup_batch(CLI::App& parent) {
   app->add_option("input", b.input, "Folder of .bvh/.c3d clips (recursive) or a manifest (.yaml/.yml/.csv)")->required();
   app->add_option("--robot", b.robot, "Robot: a name in robots/, a folder or a robot.yaml")->default_val("humanoid25");
   app->add_option("-o,--output", b.output_dir, "Output folder (created when missing)")->required();
-  app->add_option("-j,--jobs", b.jobs, "Parallel worker processes (default: the CPUs available)")->check(CLI::PositiveNumber);
+  app->add_option("-j,--jobs", b.jobs, "Parallel worker processes (default: the CPUs available)")
+      ->check(bounded(1, 1024, ""));
   app->add_flag("--check", b.check, "Run the dynamics check after each conversion; report in <name>.report/");
   app->add_option("--shard", o->shard, "Process only shard I of N (1-based, e.g. 2/8): a deterministic, size-balanced 1/N");
   app->add_flag("--force", b.force, "Redo clips whose outputs are up to date");
   app->add_flag("--fail-fast", b.fail_fast, "Stop at the first failed clip (running workers are cancelled)");
-  app->add_option("--timeout", b.timeout_s, "Per-clip wall-clock limit [s]; 0 = none")->default_val(3600)->check(CLI::NonNegativeNumber);
+  app->add_option("--timeout", b.timeout_s, "Per-clip wall-clock limit [s]; 0 = none")
+      ->default_val(3600)
+      ->check(bounded(0, 7 * 24 * 3600, "s"));
   app->add_option("--memory-limit", o->memory_limit_mb, "Per-worker address-space limit [MiB]; 0 = none")
       ->default_val(o->memory_limit_mb)
-      ->check(CLI::NonNegativeNumber);
+      ->check(bounded(0, 1 << 24, "MiB"));
   app->add_flag("--allow-outside", b.allow_outside, "Accept manifest clip paths outside the manifest's folder");
   app->add_flag("--dry-run", o->dry_run, "List the clips (of this shard) and whether each is up to date; run nothing");
   app->add_flag("-q,--quiet", o->quiet, "No progress output, only the totals");
   // Convert flags forwarded to every worker (a manifest's per-clip values override them).
   const std::string g = "Convert options (for every clip)";
   app->add_option("--format", o->formats, "Output formats, comma-separated: csv, npz")->default_val("csv")->group(g);
-  app->add_option("--fps", b.convert.fps, "Output frame rate [Hz]")->default_val(30.0)->check(CLI::PositiveNumber)->group(g);
+  app->add_option("--fps", b.convert.fps, "Output frame rate [Hz]")
+      ->default_val(30.0)
+      ->check(bounded(kMinFrameRate_hz, kMaxOutputFrameRate_hz, "Hz"))
+      ->group(g);
   app->add_option("--passes", b.convert.passes, "Pipeline to run instead of the default")->group(g);
   for (const PassInfo& info : builtin_passes())
     (info.in_default_pipeline
@@ -141,19 +148,22 @@ Command setup_batch(CLI::App& parent) {
         ->group("Passes");
   app->add_option("--time-scale", b.convert.time_scale, "Play every clip S times slower (S > 1) or faster")
       ->default_val(1.0)
-      ->check(CLI::Range(0.05, 20.0))
+      ->check(bounded(0.05, 20.0, ""))
       ->group(g);
   app->add_option("--max-joint-speed", b.convert.max_joint_speed, "Cap every joint's speed [rad/s] below its URDF limit")
-      ->check(CLI::Range(0.01, 1000.0))
+      ->check(bounded(0.01, 1000.0, "rad/s"))
       ->group(g);
   app->add_option("--source-units", o->source_units, "Override the detected source units (m, cm, mm, inch, cmu or a number)")->group(g);
-  app->add_option("--source-fps", o->source_fps, "Override the source frame rate [Hz]")->check(CLI::PositiveNumber)->group(g);
+  app->add_option("--source-fps", o->source_fps, "Override the source frame rate [Hz]")
+      ->check(bounded(kMinFrameRate_hz, kMaxFrameRate_hz, "Hz"))
+      ->group(g);
   app->add_option("--up-axis", o->up_axis, "Override the detected up axis: x, y, z (optionally -y, ...)")->group(g);
   app->add_option("--skeleton-profile,--marker-map", o->profile, "YAML mapping landmarks to joint or marker names")->group(g);
   app->add_flag("--keep-tpose", b.convert.keep_tpose, "Keep a synthetic T-pose at the start")->group(g);
   app->add_option("--package-path", b.convert.package_paths, "Extra root folder for package:// URIs (repeatable)")->group(g);
   app->footer(
-      "Outputs per clip in OUTDIR: <name>.csv/.npz, <name>.meta.json, <name>.log, <name>.report/ (with --check);\n"
+      "Outputs per clip in OUTDIR: <name>.csv/.npz, <name>.meta.json, <name>.log, <name>.report/ (with --check),\n"
+      "<name>.complete (written last: the clip is up to date only with it);\n"
       "plus summary.json, summary.csv and index.html (summary-shard-I-of-N.* and index-shard-I-of-N.html with --shard).\n"
       "Exit status: 0 every clip ok or up to date; 1 some clip failed its check; 2 some clip had bad input or failed\n"
       "otherwise (crashed, timeout, out of memory, ...) -- 2 takes precedence over 1; 128+N when stopped by signal N.");

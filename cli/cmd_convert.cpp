@@ -6,6 +6,7 @@
 
 #include "cli/command.hpp"
 #include "cli/exit_codes.hpp"
+#include "cli/numeric_option.hpp"
 #include "cli/print_check.hpp"
 #include "retarget/core/error.hpp"
 #include "retarget/core/file_io.hpp"
@@ -118,7 +119,9 @@ Command setup_convert(CLI::App& parent) {
   app->add_option("-o,--output", o->request.output,
                   "Output stem, .csv/.npz file or folder (default: out/<clip name>); meta.json goes beside it");
   app->add_option("--format", o->formats, "Output formats, comma-separated: csv, npz")->default_val("csv");
-  app->add_option("--fps", o->request.fps, "Output frame rate [Hz]")->default_val(30.0)->check(CLI::PositiveNumber);
+  app->add_option("--fps", o->request.fps, "Output frame rate [Hz]")
+      ->default_val(30.0)
+      ->check(bounded(kMinFrameRate_hz, kMaxOutputFrameRate_hz, "Hz"));
   app->add_option("--passes", o->request.passes,
                   "Pipeline to run instead of the default, e.g. 'scale,ik{max_iterations=80},label-contacts,resample'");
   for (const PassInfo& info : builtin_passes()) {
@@ -131,17 +134,18 @@ Command setup_convert(CLI::App& parent) {
   }
   app->add_flag("--list-passes", o->list_passes, "List the passes with their options and defaults, then exit");
   app->add_option("--source-units", o->source_units, "Override the detected source units: m, cm, mm, inch, cmu or metres per unit");
-  app->add_option("--source-fps", o->source_fps, "Override the source frame rate [Hz]")->check(CLI::PositiveNumber);
+  app->add_option("--source-fps", o->source_fps, "Override the source frame rate [Hz]")
+      ->check(bounded(kMinFrameRate_hz, kMaxFrameRate_hz, "Hz"));
   app->add_option("--up-axis", o->up_axis, "Override the detected source up axis: x, y, z (optionally -y, ...)");
   app->add_option("--skeleton-profile,--marker-map", o->request.motion.profile_path,
                   "YAML mapping landmarks to BVH joint names or C3D markers (README: Motion input)");
   app->add_flag("--keep-tpose", o->keep_tpose, "Keep a synthetic T-pose at the start instead of dropping it");
   app->add_option("--time-scale", o->time_scale, "Play the clip S times slower (S > 1) or faster (S < 1) before IK (the retime pass)")
-      ->check(CLI::Range(0.05, 20.0));
+      ->check(bounded(0.05, 20.0, ""));
   app->add_option("--max-joint-speed", o->request.max_joint_speed,
                   "Cap every joint's speed [rad/s] below its URDF limit (the refine pass's max_joint_speed; other tools "
                   "default to 3 pi = 9.42)")
-      ->check(CLI::Range(0.01, 1000.0));
+      ->check(bounded(0.01, 1000.0, "rad/s"));
   app->add_option("--package-path", o->package_paths, "Extra root folder for package:// URIs (repeatable)");
   app->add_flag("-v,--verbose", o->verbose, "Print the pipeline with all options and per-pass statistics");
   app->add_flag("--check", o->check,

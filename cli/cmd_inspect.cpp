@@ -11,6 +11,7 @@
 
 #include "cli/command.hpp"
 #include "cli/exit_codes.hpp"
+#include "cli/numeric_option.hpp"
 #include "retarget/core/strings.hpp"
 #include "retarget/model/robot_model.hpp"
 #include "retarget/motion/load_motion.hpp"
@@ -134,7 +135,8 @@ Command setup_inspect(CLI::App& parent) {
       "inspect", "Print what retarget reads from a robot (name, folder or robot.yaml) or a motion clip (.bvh, .c3d)");
   app->add_option("target", opts->target, "Robot (a name in robots/, a folder or a robot.yaml) or a BVH/C3D clip")->required();
   app->add_option("--source-units", opts->source_units, "Clip: override the detected units (m, cm, mm, inch, cmu or metres per unit)");
-  app->add_option("--source-fps", opts->source_fps, "Clip: override the frame rate [Hz]")->check(CLI::PositiveNumber);
+  app->add_option("--source-fps", opts->source_fps, "Clip: override the frame rate [Hz]")
+      ->check(bounded(kMinFrameRate_hz, kMaxFrameRate_hz, "Hz"));
   app->add_option("--up-axis", opts->up_axis, "Clip: override the detected up axis (x, y, z, -y, ...)");
   app->add_option("--skeleton-profile,--marker-map", opts->motion.profile_path, "Clip: YAML landmark map for the skeleton / markers");
   app->add_flag("--keep-tpose", opts->keep_tpose, "Clip: keep a synthetic T-pose at the start");

@@ -8,6 +8,7 @@
 
 #include "cli/command.hpp"
 #include "cli/exit_codes.hpp"
+#include "cli/numeric_option.hpp"
 #include "cli/print_check.hpp"
 #include "retarget/core/error.hpp"
 #include "retarget/jobs/validate_job.hpp"
@@ -37,7 +38,8 @@ Command setup_validate(CLI::App& parent) {
       "validate", "Simulate a reference through the balance and tracking controllers and report balance violations");
   app->add_option("reference", o->reference, "Reference: our CSV (+ meta.json) or NPZ, or a plain Unitree-layout CSV")->required();
   app->add_option("--robot", o->robot, "Robot: a name in robots/, a folder or a robot.yaml")->default_val("humanoid25");
-  app->add_option("--fps", o->fps, "Frame rate [Hz] of a plain CSV without meta.json")->check(CLI::PositiveNumber);
+  app->add_option("--fps", o->fps, "Frame rate [Hz] of a plain CSV without meta.json")
+      ->check(bounded(kMinFrameRate_hz, kMaxFrameRate_hz, "Hz"));
   app->add_option("--report", o->report_dir, "Write report.json and SVG plots into this folder");
   app->add_flag("--json", o->json, "Print the report as JSON instead of the text summary");
   app->add_flag("--no-dynamic-mapping", o->no_dynamic_mapping, "Turn off online COM re-planning (ablation)");

@@ -2,6 +2,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <csignal>
 #include <iostream>
 #include <vector>
 
@@ -12,6 +13,9 @@
 
 int main(int argc, char** argv) {
   using namespace rt::cli;
+  // A write beyond the file-size limit (ulimit -f) then fails with EFBIG, so the atomic writer
+  // removes its temporary and reports the file, instead of the process dying with a stale .tmp.
+  std::signal(SIGXFSZ, SIG_IGN);
   CLI::App app{"retarget: a motion retargeting compiler for humanoid robots.\n"
                "Turns human motion capture (BVH, C3D) into robot reference trajectories for a URDF robot."};
   app.set_version_flag("--version", std::string("retarget ") + rt::kVersion);

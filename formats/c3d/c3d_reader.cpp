@@ -98,6 +98,7 @@ class Parser {
     file_.point_descriptions.resize(static_cast<std::size_t>(file_.points.num_points));
     interpret_point_kinds();
     read_events();
+    choose_integer_scale();
     decode_points();
     return std::move(file_);
   }
@@ -164,6 +165,13 @@ class Parser {
       fail(param_begin_ + 2, {},
            format("parameter section (%zu blocks from 0x%zx) extends past the end of the file (%zu bytes)", blocks,
                   param_begin_, size_));
+    // Real files declare too few blocks and run on to the data section (c3d.org golfswing, FP1):
+    // the data start (header word 9) bounds the section when it lies beyond the declared end and
+    // inside the file; a record that crosses the declared end says so once.
+    declared_param_end_ = param_end_;
+    const std::size_t data_start =
+        file_.header.data_start_block > 0 ? (static_cast<std::size_t>(file_.header.data_start_block) - 1) * kBlock : 0;
+    if (data_start > param_end_ && data_start <= size_) param_end_ = data_start;
 
     std::size_t pos = param_begin_ + 4;
     while (pos + 2 <= param_end_) {
@@ -172,12 +180,14 @@ class Parser {
       if (name_length == 0) break;  // end of the parameter list
       const std::size_t n = static_cast<std::size_t>(std::abs(name_length));
       if (group_id == 0) fail(pos + 1, {}, "record has group id 0 (neither a group nor a parameter)");
-      if (pos + 2 + n + 2 > param_end_) fail(pos, {}, "record name runs past the end of the parameter section");
+      if (pos + 2 + n + 2 > param_end_)
+        fail(pos, {}, "record name runs past the end of the parameter section" + after_parameter(pos));
       std::string name(reinterpret_cast<const char*>(data_ + pos + 2), n);
       for (std::size_t i = 0; i < n; ++i) {
         const unsigned char c = data_[pos + 2 + i];
         if (c < 0x20 || c > 0x7e)
-          fail(pos + 2 + i, {}, format("record name contains byte 0x%02x (names are printable ASCII)", c));
+          fail(pos + 2 + i, {},
+               format("record name contains byte 0x%02x (names are printable ASCII)", c) + after_parameter(pos));
       }
       name = trim_copy(name);
       const std::size_t link = pos + 2 + n;  // the "next record" offset is relative to this word
@@ -214,10 +224,33 @@ class Parser {
         note(link, qualified, format("next-record offset %d points past the parameter section; taken as the last record", next));
         break;
       }
+      if (natural_end > declared_param_end_ && !warned_overflow_) {
+        warned_overflow_ = true;
+        warn(param_begin_ + 2, {},
+             format("the parameter header declares %zu blocks, but the parameters run on past 0x%zx to the data "
+                    "section at 0x%zx; reading up to the data section", blocks, declared_param_end_, param_end_));
+      }
       if (last) break;
       pos = record_end;
     }
     resolve_group_names();
+  }
+
+  // Parameters the reader interprets: their data must be sound. Others may be kept empty.
+  static bool interpreted(const std::string& group, const std::string& name) {
+    const std::string g = to_lower(group), n = to_lower(name);
+    return g == "point" || g == "trial" || g == "event" || g == "events" || (g == "analog" && (n == "used" || n == "rate"));
+  }
+
+  // " (after parameter GROUP:NAME)" for an error in the record at `pos`: names what came before it,
+  // or that the walk has reached the data section.
+  std::string after_parameter(std::size_t pos) const {
+    std::string s;
+    const std::size_t data_start =
+        file_.header.data_start_block > 0 ? (static_cast<std::size_t>(file_.header.data_start_block) - 1) * kBlock : 0;
+    if (data_start > 0 && pos >= data_start) s = " (inside the data section";
+    if (!file_.parameters.empty()) s += (s.empty() ? " (" : ", ") + std::string("after parameter ") + file_.parameters.back().qualified_name();
+    return s.empty() ? s : s + ")";
   }
 
   std::string group_name_for(int id) const {
@@ -271,9 +304,20 @@ class Parser {
     const std::size_t element = static_cast<std::size_t>(std::abs(type));
     const std::size_t q = p + 2 + ndims;
     const std::size_t available = record_end - q;
-    if (count > available / element)
-      fail(q, qualified,
-           format("parameter data (%zu elements of %zu bytes) overruns its record (%zu bytes left)", count, element, available));
+    if (count > available / element) {
+      const std::string what = format("parameter data (%zu elements of %zu bytes)", count, element);
+      if (record_end >= param_end_)  // bounded by the section, not by a next-record offset
+        fail(q, qualified, format("%s overruns the parameter section (%zu bytes left)", what.c_str(), available));
+      if (interpreted(prm.group, prm.name))
+        fail(q, qualified, format("%s overruns its record (%zu bytes to the next record)", what.c_str(), available));
+      // A parameter the reader does not use, whose next-record offset is good but whose own data
+      // are not (ANALOG:UNITS with 2 dimensions and one dimension byte in BTK's
+      // badParameterOffset.c3d): kept empty, as BTK does.
+      warn(q, qualified, format("%s overruns its record (%zu bytes to the next record); kept empty", what.c_str(), available));
+      prm.dims.clear();
+      file_.parameters.push_back(std::move(prm));
+      return record_end;
+    }
     const std::size_t bytes = count * element;
     if (prm.type == DataType::Char) {
       const char* s = reinterpret_cast<const char*>(data_ + q);
@@ -338,6 +382,16 @@ class Parser {
     return p;
   }
 
+  // A count stored in a parameter (POINT:USED, ANALOG:USED, ...). C3D stores counts as unsigned
+  // 16-bit integers; some writers store floats. Anything but a whole number from 0 to 65535 (NaN,
+  // -1, 1e10) is an error at the parameter, not an undefined float-to-int conversion.
+  int count_value(const Parameter& p, std::size_t i = 0) const {
+    const double v = p.count_at(i);
+    if (!(v >= 0 && v <= 65535 && v == std::floor(v)))
+      fail(p.offset, p.qualified_name(), format("%g is not a count (a whole number from 0 to 65535)", v));
+    return static_cast<int>(v);
+  }
+
   std::vector<std::string> concatenated_strings(std::string_view group, std::string_view base) const {
     std::vector<std::string> out;
     for (int k = 1; k < 100; ++k) {
@@ -357,7 +411,7 @@ class Parser {
     const Header& h = file_.header;
     int points = h.point_count;
     if (const Parameter* used = numeric("POINT", "USED")) {
-      const int v = static_cast<int>(used->count_at(0));
+      const int v = count_value(*used);
       if (v != points)
         warn(used->offset, "POINT:USED", format("%d points, but header word 2 says %d; using POINT:USED", v, points));
       points = v;
@@ -400,8 +454,8 @@ class Parser {
     const Parameter* start_field = numeric("TRIAL", "ACTUAL_START_FIELD");
     const Parameter* end_field = numeric("TRIAL", "ACTUAL_END_FIELD");
     if (start_field && end_field && start_field->numbers.size() >= 2 && end_field->numbers.size() >= 2) {
-      first = static_cast<long long>(start_field->count_at(0)) + 65536LL * static_cast<long long>(start_field->count_at(1));
-      last = static_cast<long long>(end_field->count_at(0)) + 65536LL * static_cast<long long>(end_field->count_at(1));
+      first = count_value(*start_field, 0) + 65536LL * count_value(*start_field, 1);
+      last = count_value(*end_field, 0) + 65536LL * count_value(*end_field, 1);
       range_offset = end_field->offset;
       range_param = "TRIAL:ACTUAL_END_FIELD";
     }
@@ -418,9 +472,9 @@ class Parser {
     file_.first_frame = static_cast<int>(std::min<long long>(first, std::numeric_limits<int>::max()));
     file_.points.num_frames = static_cast<int>(frames);
     if (const Parameter* f = numeric("POINT", "FRAMES")) {
-      const long long v = static_cast<long long>(f->count_at(0));
-      if (v != frames && frames <= 65535)
-        note(f->offset, "POINT:FRAMES", format("says %lld frames, the frame range says %lld; using the frame range", v, frames));
+      const double v = f->count_at(0);
+      if (v != static_cast<double>(frames) && frames <= 65535)
+        note(f->offset, "POINT:FRAMES", format("says %g frames, the frame range says %lld; using the frame range", v, frames));
     }
 
     file_.point_labels = concatenated_strings("POINT", "LABELS");
@@ -445,7 +499,7 @@ class Parser {
     const Parameter* used = numeric("ANALOG", "USED");
     if (used) {
       const Parameter* r = numeric("ANALOG", "RATE");
-      const int param_channels = static_cast<int>(used->count_at(0));
+      const int param_channels = count_value(*used);
       double param_rate = r ? r->numbers[0] : rate;
       int param_samples = 0;
       if (param_channels > 0) {
@@ -496,10 +550,30 @@ class Parser {
 
   int data_start_block_guess() const {
     if (const Parameter* d = file_.find("POINT", "DATA_START"); d && d->type != DataType::Char && !d->numbers.empty()) {
-      const int v = static_cast<int>(d->count_at(0));
+      const int v = count_value(*d);
       if (v > 0) return v;
     }
     return file_.header.data_start_block;
+  }
+
+  // The sign of the scale says float (< 0) or int16 (> 0) storage. When the header word and
+  // POINT:SCALE disagree in sign, the data section's size decides: float data needs twice the
+  // bytes, so a section that holds the frames as floats is float, one that holds only int16 is not.
+  void resolve_storage(int block, std::size_t frame_words) {
+    const double header = file_.header.scale;
+    if (scale_param_.empty() || !std::isfinite(header) || header == 0 || (header < 0) == (file_.point_scale < 0)) return;
+    const std::size_t frames = static_cast<std::size_t>(file_.points.num_frames);
+    if (frames == 0 || frame_words == 0 || block < 2) return;
+    const std::size_t offset = (static_cast<std::size_t>(block) - 1) * kBlock;
+    const std::size_t available = offset < size_ ? size_ - offset : 0;
+    const bool fits_float = frames <= available / (frame_words * 4);
+    file_.float_storage = fits_float;
+    warn(scale_offset_, scale_param_,
+         format("%g and the header's %g disagree on the storage; the data section (%zu bytes for %zu frames) holds %s",
+                file_.point_scale, header, available, frames, fits_float ? "floats" : "int16 values only"));
+    // The scale's sign follows the storage chosen (its magnitude scales int16 coordinates and residuals).
+    if (!fits_float && file_.point_scale < 0) file_.point_scale = -file_.point_scale;
+    if (fits_float && file_.point_scale > 0) file_.point_scale = -file_.point_scale;
   }
 
   void locate_data() {
@@ -507,7 +581,7 @@ class Parser {
     std::size_t where = 16;
     std::string where_param;
     if (const Parameter* d = numeric("POINT", "DATA_START")) {
-      const int v = static_cast<int>(d->count_at(0));
+      const int v = count_value(*d);
       if (v > 0) {
         if (block != 0 && v != block)
           warn(d->offset, "POINT:DATA_START", format("block %d, header word 9 says %d; using POINT:DATA_START", v, block));
@@ -518,8 +592,9 @@ class Parser {
         note(d->offset, "POINT:DATA_START", format("is %d; using header word 9 (block %d)", v, block));
       }
     }
-    const std::size_t ws = file_.float_storage ? 4 : 2;
     const std::size_t frame_words = 4 * static_cast<std::size_t>(file_.points.num_points) + static_cast<std::size_t>(analog_words_);
+    resolve_storage(block, frame_words);
+    const std::size_t ws = file_.float_storage ? 4 : 2;
     file_.frame_bytes = frame_words * ws;
     const std::size_t frames = static_cast<std::size_t>(file_.points.num_frames);
     if (frames == 0 || frame_words == 0) {
@@ -536,7 +611,20 @@ class Parser {
     const std::size_t available = size_ - file_.data_offset;
     // Compared by division: frames x frame_bytes may exceed 64 bits for absurd counts.
     if (frames > available / file_.frame_bytes) {
-      const std::size_t complete = available / file_.frame_bytes;
+      std::size_t complete = available / file_.frame_bytes;
+      // The zero bytes that pad the last 512-byte block are no frames (every point at the origin).
+      auto all_zero = [&](std::size_t f) {
+        const unsigned char* p = data_ + file_.data_offset + f * file_.frame_bytes;
+        return std::all_of(p, p + file_.frame_bytes, [](unsigned char c) { return c == 0; });
+      };
+      while (complete > 0 && all_zero(complete - 1)) --complete;
+      if (complete > 0) {  // a cut file: its complete frames are read, as ezc3d does
+        warn(file_.data_offset + complete * file_.frame_bytes, {},
+             format("data section truncated: it holds %zu complete frames of the %zu the header declares; reading "
+                    "those (frame %zu is incomplete)", complete, frames, complete + 1));
+        file_.points.num_frames = static_cast<int>(complete);
+        return;
+      }
       fail(file_.data_offset + complete * file_.frame_bytes, {},
            format("data section truncated: %zu frames of %zu bytes (%d points, %lld analog words per frame, %s) need "
                   "%.0f bytes from 0x%zx, the file has %zu (frame %zu is incomplete)",
@@ -572,16 +660,19 @@ class Parser {
   }
 
   void read_events() {
-    const Parameter* used = numeric("EVENT", "USED");
+    // The C3D guide's group is EVENT; some writers (BKIN) name it EVENTS.
+    const char* group = file_.find("EVENT", "USED") || !file_.find("EVENTS", "USED") ? "EVENT" : "EVENTS";
+    const Parameter* used = numeric(group, "USED");
     if (used) {
-      const Parameter* labels = file_.find("EVENT", "LABELS");
-      const Parameter* contexts = file_.find("EVENT", "CONTEXTS");
-      const Parameter* times = numeric("EVENT", "TIMES");
-      std::size_t count = static_cast<std::size_t>(used->count_at(0));
+      const Parameter* labels = file_.find(group, "LABELS");
+      const Parameter* contexts = file_.find(group, "CONTEXTS");
+      const Parameter* times = numeric(group, "TIMES");
+      std::size_t count = static_cast<std::size_t>(count_value(*used));
       const std::size_t time_count = times ? times->numbers.size() / 2 : 0;
       if (count > time_count) {
         if (count > 0)
-          warn(used->offset, "EVENT:USED", format("%zu events but EVENT:TIMES holds %zu; reading %zu", count, time_count, time_count));
+          warn(used->offset, used->qualified_name(),
+               format("%zu events but %s:TIMES holds %zu; reading %zu", count, group, time_count, time_count));
         count = time_count;
       }
       for (std::size_t k = 0; k < count; ++k) {
@@ -589,7 +680,7 @@ class Parser {
         const double minutes = times->numbers[2 * k], seconds = times->numbers[2 * k + 1];
         e.time_s = 60.0 * minutes + seconds;
         if (!std::isfinite(e.time_s)) {
-          warn(times->offset, "EVENT:TIMES", format("event %zu has a non-finite time; skipped", k + 1));
+          warn(times->offset, times->qualified_name(), format("event %zu has a non-finite time; skipped", k + 1));
           continue;
         }
         if (labels && labels->type == DataType::Char && k < labels->strings.size()) e.label = labels->strings[k];
@@ -624,6 +715,49 @@ class Parser {
          format("frame %d (file frame %lld), point %d%s%s%s: %s in a sample marked valid", frame,
                 static_cast<long long>(file_.first_frame) + frame, point + 1, label.empty() ? "" : " '",
                 label.c_str(), label.empty() ? "" : "'", what));
+  }
+
+  // Integer data whose header scale and POINT:SCALE disagree in magnitude (c3d.org MACsample:
+  // with POINT:SCALE the shoulder lands at 0.57 m). The one that gives the markers a body's
+  // extent (0.9-3 m across, median over frames) wins, with a warning; if both or neither do, a
+  // located error: a silent conversion at the wrong scale is worse than none.
+  void choose_integer_scale() {
+    const double header = file_.header.scale, param = file_.point_scale;
+    if (file_.float_storage || scale_param_.empty() || !(header > 0) || !(param > 0) ||
+        std::abs(header - param) <= 1e-6 * std::abs(header))
+      return;
+    const std::size_t n = static_cast<std::size_t>(file_.points.num_points);
+    const std::size_t frames = static_cast<std::size_t>(file_.points.num_frames);
+    if (n == 0 || frames == 0) return;
+    std::vector<double> extents;  // per sampled frame, in stored integer counts
+    const std::size_t step = std::max<std::size_t>(1, frames / 200);
+    for (std::size_t f = 0; f < frames; f += step) {
+      const unsigned char* frame = data_ + file_.data_offset + f * file_.frame_bytes;
+      double lo[3] = {1e9, 1e9, 1e9}, hi[3] = {-1e9, -1e9, -1e9};
+      int valid = 0;
+      for (std::size_t i = 0; i < n; ++i) {
+        const unsigned char* q = frame + i * 8;
+        if (dec_.i16(q + 6) < 0) continue;
+        ++valid;
+        for (int a = 0; a < 3; ++a) {
+          lo[a] = std::min(lo[a], static_cast<double>(dec_.i16(q + 2 * a)));
+          hi[a] = std::max(hi[a], static_cast<double>(dec_.i16(q + 2 * a)));
+        }
+      }
+      if (valid >= 3) extents.push_back(std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]}));
+    }
+    if (extents.empty()) return;
+    std::nth_element(extents.begin(), extents.begin() + static_cast<long>(extents.size() / 2), extents.end());
+    const std::string u = to_lower(file_.point_units);
+    const double metres = u == "m" ? 1 : u == "cm" ? 0.01 : 0.001;  // mm, or unknown: as the motion layer assumes
+    const double counts = extents[extents.size() / 2];
+    auto plausible = [&](double scale) { return counts * scale * metres >= 0.9 && counts * scale * metres <= 3; };
+    const std::string says = format("POINT:SCALE %g gives markers %.2f m across, the header's %g gives %.2f m", param,
+                                    counts * param * metres, header, counts * header * metres);
+    if (plausible(header) == plausible(param))
+      fail(scale_offset_, scale_param_, "the point scale is ambiguous: " + says + "; cannot tell which is right");
+    file_.point_scale = plausible(header) ? header : param;
+    warn(scale_offset_, scale_param_, says + format("; using %g", file_.point_scale));
   }
 
   void decode_points() {
@@ -679,7 +813,9 @@ class Parser {
   Decoder dec_;
   C3dFile file_;
   std::size_t param_begin_ = 0;
-  std::size_t param_end_ = 0;
+  std::size_t param_end_ = 0;           // the section as read (up to the data start, see parse_parameters)
+  std::size_t declared_param_end_ = 0;  // as the parameter header's block count says
+  bool warned_overflow_ = false;
   long long analog_words_ = 0;
   std::size_t scale_offset_ = 12;
   std::string scale_param_;

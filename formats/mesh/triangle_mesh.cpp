@@ -6,6 +6,7 @@
 #include <assimp/scene.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -16,6 +17,7 @@
 #include <utility>
 
 #include "retarget/core/error.hpp"
+#include "retarget/core/file_io.hpp"
 #include "retarget/core/strings.hpp"
 
 namespace rt {
@@ -106,7 +108,31 @@ bool read_binary_stl(const std::string& path, const Vec3& scale, TriangleMesh& m
   return true;
 }
 
+// assimp triangulates a polygon in time quadratic in its corners (an OBJ face of 10M vertices ran
+// for minutes): OBJ faces are counted first. Mesh faces have 3-4 corners, CAD exports a few dozen.
+void check_obj_polygons(const std::string& path) {
+  constexpr std::size_t kMaxCorners = 1000;
+  std::string lower = path;
+  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (lower.size() < 4 || lower.compare(lower.size() - 4, 4, ".obj") != 0) return;
+  const std::string text = read_file(path);
+  std::size_t line = 1;
+  for (std::size_t i = 0; i < text.size(); ++line) {
+    const std::size_t end = std::min(text.find('\n', i), text.size());
+    if (end - i > 2 && text[i] == 'f' && (text[i + 1] == ' ' || text[i + 1] == '\t')) {
+      std::size_t corners = 0;
+      for (std::size_t k = i + 1; k < end; ++k)
+        if (text[k] != ' ' && text[k] != '\t' && text[k] != '\r' && (text[k - 1] == ' ' || text[k - 1] == '\t')) ++corners;
+      if (corners > kMaxCorners)
+        throw InputError(path + ":" + std::to_string(line),
+                         format("a face with %zu corners (at most %zu): not a robot mesh", corners, kMaxCorners));
+    }
+    i = end + 1;
+  }
+}
+
 void read_with_assimp(const std::string& path, const Vec3& scale, TriangleMesh& mesh) {
+  check_obj_polygons(path);
   Assimp::Importer importer;
   // Keep URDF/ROS coordinates: by default assimp rotates Z_UP COLLADA files to Y up.
   importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
@@ -138,6 +164,12 @@ void read_with_assimp(const std::string& path, const Vec3& scale, TriangleMesh& 
 TriangleMesh load_mesh(const std::string& path, const MeshLoadOptions& options) {
   if (!options.scale.allFinite() || (options.scale.array() == 0).any())
     throw InputError(path, "mesh scale must be finite and non-zero");
+  require_regular_file(path);
+  std::error_code ec;
+  const std::uintmax_t bytes = std::filesystem::file_size(path, ec);
+  if (ec || bytes > options.max_file_bytes)
+    throw InputError(path, format("mesh file of %.0f bytes is larger than the limit of %.0f MB", static_cast<double>(bytes),
+                                  static_cast<double>(options.max_file_bytes) / (1 << 20)));
   TriangleMesh mesh;
   if (!read_binary_stl(path, options.scale, mesh)) {
     mesh = TriangleMesh();

@@ -29,6 +29,9 @@ struct MeshLoadOptions {
   /// STL files with more than 200000 faces; collision only uses the convex hull, so clustering on
   /// a fine grid changes the contact geometry by at most the cell size.
   int max_faces = 200000;
+  /// [bytes] Larger files are refused before they are read (a 2 GB sparse STL, a 10M-vertex OBJ
+  /// polygon): robot collision meshes are at most a few MB.
+  std::uint64_t max_file_bytes = 128ull << 20;
 };
 
 /// Loads a mesh file with assimp: triangulated, node transforms applied (PreTransformVertices),

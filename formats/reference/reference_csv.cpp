@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "retarget/core/error.hpp"
+#include "retarget/core/limits.hpp"
 #include "retarget/core/file_io.hpp"
 #include "retarget/core/strings.hpp"
 #include "retarget/reference/reference_io.hpp"
@@ -191,8 +192,7 @@ Reference parse_reference_csv(std::string_view text, const std::string& file, co
 Reference read_plain_csv(const std::string& path, const std::vector<std::string>& joint_names, double fps,
                          const std::string& robot_name) {
   const std::string file = base_name(path);
-  if (!(std::isfinite(fps) && fps > 0))
-    throw InputError(file, format("a plain CSV needs a frame rate > 0 (--fps), got %g", fps));
+  check_frame_rate(fps, file, "the frame rate (--fps)");
   if (joint_names.empty())
     throw InputError(file, "a plain CSV needs the robot's joint order (--robot)");
   CsvReadOptions o;

@@ -8,6 +8,7 @@
 #include "formats/reference/reference_meta.hpp"
 #include "formats/reference/reference_npz.hpp"
 #include "retarget/core/error.hpp"
+#include "retarget/core/limits.hpp"
 #include "retarget/core/file_io.hpp"
 #include "retarget/core/strings.hpp"
 
@@ -94,9 +95,10 @@ std::string meta_path_for(const std::string& data_path) {
 }
 
 void check_reference(const Reference& r, const std::string& where) {
-  if (!(std::isfinite(r.fps) && r.fps > 0)) throw InputError(where, format("frame rate %g is not > 0", r.fps));
+  check_frame_rate(r.fps, where, "the frame rate");
   const int T = r.num_frames();
   if (T < 1) throw InputError(where, "reference has no frames");
+  check_clip_duration(T / r.fps, where, format("the reference (%d frames at %g Hz)", T, r.fps));
   const Eigen::Index J = static_cast<Eigen::Index>(r.joint_names.size());
   if (J < 1) throw InputError(where, "reference has no joints");
   std::set<std::string> names;

@@ -7,6 +7,7 @@
 
 #include "formats/reference/reference_csv.hpp"
 #include "retarget/core/error.hpp"
+#include "retarget/core/limits.hpp"
 #include "retarget/core/file_io.hpp"
 #include "retarget/core/json_document.hpp"
 #include "retarget/core/strings.hpp"
@@ -210,7 +211,8 @@ ReferenceMeta parse_reference_meta(std::string_view text, const std::string& fil
       m.robot_name = in.string(v, key);
     } else if (key == "fps") {
       m.fps = in.number(v, key);
-      if (!(m.fps > 0) || m.fps > 1e6) in.fail(key, format("frame rate %g is not in (0, 1e6] Hz", m.fps));
+      if (!(m.fps >= kMinFrameRate_hz && m.fps <= kMaxFrameRate_hz))
+        in.fail(key, format("the frame rate is %.6g Hz, not %s", m.fps, range_in_words(kMinFrameRate_hz, kMaxFrameRate_hz, "Hz").c_str()));
     } else if (key == "num_frames") {
       m.num_frames = static_cast<int>(in.integer(v, key, 1, std::numeric_limits<int>::max()));
     } else if (key == "joint_names") {

@@ -8,6 +8,7 @@
 #include "formats/reference/reference_csv.hpp"
 #include "formats/reference/reference_meta.hpp"
 #include "retarget/core/error.hpp"
+#include "retarget/core/limits.hpp"
 #include "retarget/core/file_io.hpp"
 #include "retarget/core/strings.hpp"
 
@@ -69,8 +70,8 @@ class NpzReferenceReader {
     numeric("fps", fps);
     if (fps.size() != 1 || fps.ndim() > 1) fail("fps", "expected one value, shape " + shape_text(fps.shape));
     r.fps = fps.number(0);
-    if (!(std::isfinite(r.fps) && r.fps > 0 && r.fps <= 1e6))
-      fail("fps", format("frame rate %g is not in (0, 1e6] Hz", r.fps));
+    if (!(r.fps >= kMinFrameRate_hz && r.fps <= kMaxFrameRate_hz))
+      fail("fps", format("the frame rate is %.6g Hz, not %s", r.fps, range_in_words(kMinFrameRate_hz, kMaxFrameRate_hz, "Hz").c_str()));
 
     const Array& q = require("joint_pos");
     numeric("joint_pos", q);

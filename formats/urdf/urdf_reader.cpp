@@ -8,6 +8,7 @@
 #include <charconv>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <mutex>
 
@@ -158,33 +159,50 @@ bool parse_numbers(const std::string& text, std::size_t count, std::vector<doubl
 // every numeric attribute is checked here first, with its line.
 void Reader::check_numbers(const TiXmlElement* e, const std::string& owner) const {
   if (!e) return;
+  // max_abs bounds geometry and mass (a robot is metres and kilograms; 1e300 is a typo that would
+  // otherwise reach the simulation); limits and gains stay free (URDFs use 1e16 for "none").
+  constexpr double kFree = std::numeric_limits<double>::infinity();
   struct Rule {
     const char* element;
     const char* attribute;
     std::size_t count;
+    double max_abs;
   };
   static constexpr Rule kRules[] = {
-      {"origin", "xyz", 3},      {"origin", "rpy", 3},       {"mass", "value", 1},      {"inertia", "ixx", 1},
-      {"inertia", "ixy", 1},     {"inertia", "ixz", 1},      {"inertia", "iyy", 1},     {"inertia", "iyz", 1},
-      {"inertia", "izz", 1},     {"box", "size", 3},         {"cylinder", "radius", 1}, {"cylinder", "length", 1},
-      {"sphere", "radius", 1},   {"mesh", "scale", 3},       {"axis", "xyz", 3},        {"limit", "lower", 1},
-      {"limit", "upper", 1},     {"limit", "effort", 1},     {"limit", "velocity", 1},  {"dynamics", "damping", 1},
-      {"dynamics", "friction", 1}, {"mimic", "multiplier", 1}, {"mimic", "offset", 1}};
+      {"origin", "xyz", 3, 1e3},       {"origin", "rpy", 3, 1e3},      {"mass", "value", 1, 1e6},
+      {"inertia", "ixx", 1, 1e6},      {"inertia", "ixy", 1, 1e6},     {"inertia", "ixz", 1, 1e6},
+      {"inertia", "iyy", 1, 1e6},      {"inertia", "iyz", 1, 1e6},     {"inertia", "izz", 1, 1e6},
+      {"box", "size", 3, 1e3},         {"cylinder", "radius", 1, 1e3}, {"cylinder", "length", 1, 1e3},
+      {"sphere", "radius", 1, 1e3},    {"mesh", "scale", 3, 1e3},      {"axis", "xyz", 3, 1e3},
+      {"limit", "lower", 1, kFree},    {"limit", "upper", 1, kFree},   {"limit", "effort", 1, kFree},
+      {"limit", "velocity", 1, kFree}, {"dynamics", "damping", 1, kFree}, {"dynamics", "friction", 1, kFree},
+      {"mimic", "multiplier", 1, kFree}, {"mimic", "offset", 1, kFree}};
   std::vector<double> values;
   for (const Rule& rule : kRules) {
     if (e->ValueStr() != rule.element) continue;
     const char* v = e->Attribute(rule.attribute);
-    if (v && !parse_numbers(v, rule.count, values))
-      fail(e->Row(), "<" + e->ValueStr() + " " + rule.attribute + "=\"" + v + "\"> in " + owner + ": expected " +
+    if (!v) continue;
+    const std::string what = "<" + e->ValueStr() + " " + rule.attribute + "=\"" + std::string(v).substr(0, 80) + "\"> in " + owner;
+    if (!parse_numbers(v, rule.count, values))
+      fail(e->Row(), what + ": expected " +
                          (rule.count == 1 ? std::string("a finite number") : std::to_string(rule.count) + " finite numbers"));
+    for (double x : values)
+      if (std::abs(x) > rule.max_abs)
+        fail(e->Row(), what + ": " + format("%g is not between -%g and %g", x, rule.max_abs, rule.max_abs));
   }
   for (const TiXmlElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) check_numbers(c, owner);
 }
 
-// Deepest element nesting of an XML text (comments, CDATA, declarations and quoted attribute
-// values skipped). tinyxml parses recursively, so absurd nesting must be refused before parsing.
-int max_nesting(const std::string& xml) {
-  int depth = 0, deepest = 0;
+// What the pre-scan of an XML text finds (comments, CDATA, declarations and quoted attribute
+// values skipped). tinyxml parses recursively, so absurd nesting must be refused before parsing,
+// and its attribute handling is quadratic in the attributes of one element (200,000 took minutes).
+struct XmlShape {
+  int deepest = 0;         // element nesting
+  int most_attributes = 0;  // in one element (quoted values counted)
+};
+
+XmlShape xml_shape(const std::string& xml) {
+  int depth = 0, deepest = 0, most_attributes = 0;
   const std::size_t n = xml.size();
   for (std::size_t i = 0; i < n; ++i) {
     if (xml[i] != '<') continue;
@@ -205,28 +223,40 @@ int max_nesting(const std::string& xml) {
     } else {
       // An opening tag: find its end outside quotes; "/>" closes it at once.
       char quote = 0;
+      int values = 0;
       std::size_t j = i + 1;
       for (; j < n; ++j) {
         if (quote) {
           if (xml[j] == quote) quote = 0;
         } else if (xml[j] == '"' || xml[j] == '\'') {
           quote = xml[j];
+          ++values;
         } else if (xml[j] == '>') {
           break;
         }
       }
+      most_attributes = std::max(most_attributes, values);
       if (j >= n) break;
       if (xml[j - 1] != '/') deepest = std::max(deepest, ++depth);
       i = j;
     }
   }
-  return deepest;
+  return {deepest, most_attributes};
 }
 
 void Reader::index_xml(const std::string& xml) {
-  constexpr int kMaxNesting = 200;  // URDFs nest 5 or 6 deep
-  if (max_nesting(xml) > kMaxNesting)
+  constexpr int kMaxNesting = 200;      // URDFs nest 5 or 6 deep
+  constexpr int kMaxAttributes = 1000;  // URDF elements have at most a handful
+  // tinyxml reads UTF-8 only; a UTF-16 file (byte-order mark FF FE or FE FF, or NUL bytes in
+  // "<?xml") otherwise fails with a message about the first odd byte.
+  if (xml.size() >= 2 && ((xml[0] == '\xff' && xml[1] == '\xfe') || (xml[0] == '\xfe' && xml[1] == '\xff') ||
+                          (xml[0] == '<' && xml[1] == '\0') || (xml[0] == '\0' && xml[1] == '<')))
+    fail(1, "the file is UTF-16 encoded; save it as UTF-8");
+  const XmlShape shape = xml_shape(xml);
+  if (shape.deepest > kMaxNesting)
     fail(0, "XML elements nested more than " + std::to_string(kMaxNesting) + " deep: not a URDF");
+  if (shape.most_attributes > kMaxAttributes)
+    fail(0, "an XML element has more than " + std::to_string(kMaxAttributes) + " attributes: not a URDF");
   TiXmlDocument doc;
   doc.Parse(xml.c_str(), nullptr, TIXML_ENCODING_UTF8);
   if (trim(xml).empty()) fail(0, "empty file");
@@ -309,6 +339,10 @@ void Reader::index_xml(const std::string& xml) {
 
 void Reader::check_structure() {
   const std::size_t n = index_.links.size();
+  // Each link becomes a MuJoCo body with its meshes; humanoids have well under 100.
+  constexpr std::size_t kMaxLinks = 1000;
+  if (n > kMaxLinks)
+    fail(index_.links[kMaxLinks].line, "more than " + std::to_string(kMaxLinks) + " links: not a robot this tool can simulate");
   std::vector<int> parent_joint(n, -1);
   for (std::size_t j = 0; j < index_.joints.size(); ++j) {
     const XmlJoint& x = index_.joints[j];
@@ -340,16 +374,26 @@ void Reader::check_structure() {
   std::vector<std::vector<int>> children(n);
   for (const XmlJoint& x : index_.joints)
     children[static_cast<std::size_t>(index_.link_by_name.at(x.parent))].push_back(index_.link_by_name.at(x.child));
+  // The tree's depth is bounded too: the MJCF writer and MuJoCo's compiler recurse per body (a
+  // 20,000-link chain overflowed the stack), and MuJoCo refuses deep trees anyway. Humanoids are
+  // about 10 links deep.
+  constexpr int kMaxTreeDepth = 100;
   std::vector<char> reached(n, 0);
-  std::vector<int> stack{roots[0]};
+  std::vector<std::pair<int, int>> stack{{roots[0], 1}};  // link, depth in links
   reached[static_cast<std::size_t>(roots[0])] = 1;
   while (!stack.empty()) {
-    const int l = stack.back();
+    const auto [l, depth] = stack.back();
     stack.pop_back();
     for (int c : children[static_cast<std::size_t>(l)]) {
       if (!reached[static_cast<std::size_t>(c)]) {
         reached[static_cast<std::size_t>(c)] = 1;
-        stack.push_back(c);
+        if (depth + 1 > kMaxTreeDepth) {
+          const XmlJoint& x = index_.joints[static_cast<std::size_t>(parent_joint[static_cast<std::size_t>(c)])];
+          fail(x.line, "the kinematic tree is more than " + std::to_string(kMaxTreeDepth) + " links deep at link '" +
+                           index_.links[static_cast<std::size_t>(c)].name + "' (joint '" + x.name +
+                           "'); a robot is about 10 deep");
+        }
+        stack.push_back({c, depth + 1});
       }
     }
   }

@@ -6,12 +6,13 @@
 
 #include "retarget/core/error.hpp"
 #include "retarget/core/gaussian_filter.hpp"
+#include "retarget/core/limits.hpp"
 
 namespace rt {
 
 std::array<Eigen::Matrix2Xd, 4> com_derivatives(const Eigen::Matrix2Xd& com_W, double rate_hz, double smoothing_s) {
   if (!(smoothing_s >= 0 && smoothing_s <= 10)) throw InputError("reference COM smoothing must be in [0, 10] s");
-  if (!(rate_hz > 0)) throw InputError("reference COM rate must be > 0");
+  check_frame_rate(rate_hz, "reference COM", "the sample rate");
   const auto T = static_cast<int>(com_W.cols());
   const Eigen::Matrix2Xd c = gaussian_filter(com_W, smoothing_s * rate_hz);
   std::array<Eigen::Matrix2Xd, 4> d;

@@ -60,6 +60,8 @@ std::int64_t c3d_frames(const std::string& path) {
 }  // namespace
 
 std::int64_t probe_source_frames(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return 0;  // a FIFO would block the probe; the worker reports it
   const std::string ext = to_lower(std::filesystem::path(path).extension().string());
   if (ext == ".bvh") return bvh_frames(path);
   if (ext == ".c3d") return c3d_frames(path);

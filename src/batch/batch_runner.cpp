@@ -95,27 +95,69 @@ std::vector<std::string> worker_environment() {
   return env;
 }
 
-// flock on a file in the output folder, held for the batch's lifetime.
-class FolderLock {
+// One lock file per output folder, whatever the shard tag: each batch holds a write lock
+// (fcntl, 1 byte at an offset hashed from the clip's output name) on every clip it plans, for its
+// lifetime. Shards of one split own disjoint clips and run side by side; a plain batch and a
+// `--shard 1/1` one, or shards of different splits, share clips and the second one is refused
+// before it touches a file. fcntl locks also work over NFS (lockd), unlike flock on some systems.
+class ClipLocks {
  public:
-  explicit FolderLock(const std::string& path) {
+  ClipLocks(const std::string& path, const std::vector<PlannedClip>& clips) {
     fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
     if (fd_ < 0) throw InputError(path, std::string("cannot create the batch lock file: ") + std::strerror(errno));
-    if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
-      ::close(fd_);
-      throw InputError(path, "another retarget batch is writing into this output folder (lock held); wait for it or "
-                             "use another -o");
+    for (const PlannedClip& c : clips) {
+      struct flock l {};
+      l.l_type = F_WRLCK;
+      l.l_whence = SEEK_SET;
+      l.l_start = static_cast<off_t>(name_hash(c.clip.output_name) >> 2);  // < 2^62: a valid offset
+      l.l_len = 1;
+      if (::fcntl(fd_, F_SETLK, &l) != 0) {
+        const int err = errno;
+        ::close(fd_);
+        if (err != EACCES && err != EAGAIN)
+          throw InputError(path, std::string("cannot lock the output folder: ") + std::strerror(err));
+        throw InputError(path, "another retarget batch is writing clip '" + c.clip.output_name +
+                                   "' into this output folder (lock held); wait for it or use another -o");
+      }
     }
   }
-  ~FolderLock() {
-    if (fd_ >= 0) ::close(fd_);  // releases the lock
+  ~ClipLocks() {
+    if (fd_ >= 0) ::close(fd_);  // releases the locks
   }
-  FolderLock(const FolderLock&) = delete;
-  FolderLock& operator=(const FolderLock&) = delete;
+  ClipLocks(const ClipLocks&) = delete;
+  ClipLocks& operator=(const ClipLocks&) = delete;
 
  private:
+  static std::uint64_t name_hash(const std::string& s) {  // FNV-1a
+    std::uint64_t h = 1469598103934665603ull;
+    for (unsigned char c : s) h = (h ^ c) * 1099511628211ull;
+    return h;
+  }
   int fd_ = -1;
 };
+
+fs::path resolved_path(const fs::path& p) {
+  std::error_code ec;
+  const fs::path r = fs::weakly_canonical(p, ec);
+  return ec ? p.lexically_normal() : r;
+}
+
+bool path_within(const fs::path& root, const fs::path& p) {
+  const fs::path rel = p.lexically_relative(root);
+  return !rel.empty() && rel.begin()->string() != ".." && !rel.is_absolute();
+}
+
+// Paths are checked again right before a worker starts, not only at planning: a symlink that
+// dangled then (or was changed since) must not lead the worker outside the input root, and an
+// output name must not lead through a symlink inside -o to a folder outside it. Throws InputError.
+void check_paths_at_launch(const BatchClip& clip, const ClipOutputPaths& paths, const std::string& output_dir) {
+  if (!clip.input_root.empty() && !path_within(fs::path(clip.input_root), resolved_path(clip.input)))
+    throw InputError(clip.input, "now resolves outside the input root " + clip.input_root +
+                                     " (a symlink changed since planning; pass --allow-outside to accept it)");
+  const fs::path out = resolved_path(fs::absolute(output_dir));
+  if (!path_within(out, resolved_path(fs::absolute(paths.stem))))
+    throw InputError(paths.stem, "the output path leads outside the output folder " + out.string() + " (through a symlink)");
+}
 
 struct Running {
   std::size_t index = 0;  // into the plan
@@ -266,7 +308,7 @@ BatchSummary run_batch(const BatchOptions& options, const BatchCallbacks& callba
   fs::create_directories(o.output_dir, ec);
   if (ec) throw InputError(o.output_dir, "cannot create the output folder: " + ec.message());
   const std::string tag = o.shard ? o.shard->file_tag() : std::string();
-  const FolderLock lock((fs::path(o.output_dir) / (".retarget-batch" + (tag.empty() ? "" : "-" + tag) + ".lock")).string());
+  const ClipLocks lock((fs::path(o.output_dir) / ".retarget-batch.lock").string(), plan.clips);
 
   BatchSummary summary;
   summary.robot = plan.robot_name;
@@ -361,7 +403,9 @@ BatchSummary run_batch(const BatchOptions& options, const BatchCallbacks& callba
       w.index = k;
       w.paths = clip_output_paths(o.output_dir, clip.output_name, o.convert.formats);
       try {
+        check_paths_at_launch(clip, w.paths, o.output_dir);
         fs::create_directories(fs::path(w.paths.stem).parent_path(), ec);
+        remove_completion_marker(w.paths);  // first: a worker killed from here on leaves the clip to redo
         remove_stale_temporaries(w.paths);
         WorkerLaunch launch;
         launch.argv = {o.worker_executable};
@@ -375,8 +419,9 @@ BatchSummary run_batch(const BatchOptions& options, const BatchCallbacks& callba
         w.process = std::make_unique<WorkerProcess>(launch);
       } catch (const std::exception& e) {
         ClipResult r = base_result(clip);
-        r.status = ClipStatus::Error;
-        r.error = std::string("cannot start the worker: ") + e.what();
+        const bool bad_input = dynamic_cast<const InputError*>(&e) != nullptr;  // a path that escapes
+        r.status = bad_input ? ClipStatus::BadInput : ClipStatus::Error;
+        r.error = bad_input ? std::string(e.what()) : std::string("cannot start the worker: ") + e.what();
         progress.frames_done += weight[k];
         record(std::move(r));
         if (o.fail_fast) stop("--fail-fast: " + clip.output_name + " failed");
@@ -397,6 +442,14 @@ BatchSummary run_batch(const BatchOptions& options, const BatchCallbacks& callba
       }
       const BatchClip& clip = plan.clips[w.index].clip;
       ClipResult r = finished_result(clip, w.process->exit(), w.paths, o, stopped);
+      if (r.status == ClipStatus::Ok || r.status == ClipStatus::CheckFailed) {
+        try {
+          write_completion_marker(w.paths, o.check);  // last: only now is the clip up to date
+        } catch (const std::exception& e) {
+          r.status = ClipStatus::Error;
+          r.error = e.what();
+        }
+      }
       progress.frames_done += weight[w.index];
       if (r.status != ClipStatus::Cancelled) {
         frames_converted += weight[w.index];

@@ -241,6 +241,7 @@ std::vector<BatchClip> clips_from_entries(const std::vector<ManifestEntry>& entr
                                     " (pass --allow-outside to accept it)");
     BatchClip c;
     c.input = p.string();
+    if (!options.allow_outside) c.input_root = root_resolved.string();
     c.input_bytes = file_size_or_zero(p);
     c.origin = e.where;
     c.overrides = e.overrides;
@@ -248,6 +249,11 @@ std::vector<BatchClip> clips_from_entries(const std::vector<ManifestEntry>& entr
       fs::path prof(e.profile_raw);
       if (prof.is_relative()) prof = root / prof;
       prof = prof.lexically_normal();
+      // Under the same rule as the clips: otherwise any readable file could be opened (and its
+      // first line echoed in the error) through a manifest.
+      if (!options.allow_outside && !is_within(root_resolved, resolved(prof)))
+        throw InputError(e.where, "profile '" + e.profile_raw + "' is outside the manifest's folder " + root.string() +
+                                      " (pass --allow-outside to accept it)");
       std::error_code ec;
       if (!fs::is_regular_file(prof, ec))
         throw InputError(e.where, "profile '" + e.profile_raw + "' not found (looked for " + prof.string() + ")");
@@ -283,6 +289,7 @@ std::vector<BatchClip> discover_folder(const fs::path& folder, const ClipDiscove
                                          " (pass --allow-outside to accept it)");
     BatchClip c;
     c.input = abs.string();
+    if (!options.allow_outside) c.input_root = root_resolved.string();
     c.input_bytes = file_size_or_zero(abs);
     c.origin = root.string();
     c.output_name = default_output_name(root, abs);

@@ -9,6 +9,7 @@
 
 #include "retarget/core/error.hpp"
 #include "retarget/core/file_io.hpp"
+#include "retarget/core/sha256.hpp"
 #include "retarget/core/strings.hpp"
 #include "retarget/report/check_report.hpp"
 #include "retarget/sim/violations.hpp"
@@ -97,7 +98,72 @@ std::string main_violation(const CheckReportSummary& report) {
   return s;
 }
 
+// The files a complete clip has: data per format, meta, log and, with the check, the report folder.
+std::vector<std::string> expected_outputs(const ClipOutputPaths& p, bool check) {
+  std::vector<std::string> files = p.data;
+  files.push_back(p.meta);
+  files.push_back(p.log);
+  if (check) {
+    files.push_back(p.report);
+    files.push_back(p.report_dir + "/report.txt");
+    for (const char* plot : kPlotNames) files.push_back(p.report_dir + "/" + plot);
+  }
+  return files;
+}
+
+// Names in the marker are relative to the stem's folder ("walk01.csv", "walk01.report/report.json").
+std::string marker_name(const ClipOutputPaths& p, const std::string& file) {
+  return fs::path(file).lexically_relative(fs::path(p.stem).parent_path()).generic_string();
+}
+
+constexpr const char* kMarkerFormat = "retarget-clip-complete";
+
+// "" when the marker matches the outputs on disk, else why not.
+std::string check_completion_marker(const ClipOutputPaths& p, bool check) {
+  const Json marker = read_json(p.complete);
+  if (!marker.is_object() || json_string(marker, {"format"}) != kMarkerFormat) return "no completion marker";
+  const Json& files = marker.contains("files") ? marker["files"] : Json();
+  if (!files.is_object()) return "completion marker unreadable";
+  for (const std::string& f : expected_outputs(p, check)) {
+    const std::string name = marker_name(p, f);
+    std::error_code ec;
+    const auto size = fs::file_size(f, ec);
+    if (ec || !is_file(f)) return name + " missing";
+    if (!files.contains(name) || !files[name].is_number_unsigned() || files[name].get<std::uint64_t>() != size)
+      return name + " incomplete (not as the completion marker recorded)";
+  }
+  std::string meta_hash;
+  try {
+    meta_hash = sha256_file(p.meta);
+  } catch (const InputError&) {
+    return "meta.json unreadable";
+  }
+  if (json_string(marker, {"meta_sha256"}) != meta_hash) return "meta.json changed after the completion marker";
+  return "";
+}
+
 }  // namespace
+
+void write_completion_marker(const ClipOutputPaths& p, bool check) {
+  Json marker = Json::object();
+  marker["format"] = kMarkerFormat;
+  marker["format_version"] = 1;
+  Json files = Json::object();
+  for (const std::string& f : expected_outputs(p, check)) {
+    std::error_code ec;
+    const auto size = fs::file_size(f, ec);
+    if (ec) throw InputError(f, "cannot record the completed output: " + ec.message());
+    files[marker_name(p, f)] = static_cast<std::uint64_t>(size);
+  }
+  marker["files"] = std::move(files);
+  marker["meta_sha256"] = sha256_file(p.meta);
+  write_file_atomic(p.complete, marker.dump(1) + "\n");
+}
+
+void remove_completion_marker(const ClipOutputPaths& p) {
+  std::error_code ec;
+  fs::remove(p.complete, ec);
+}
 
 ClipOutputPaths clip_output_paths(const std::string& out_folder, const std::string& output_name,
                                   const std::vector<ReferenceFormat>& formats) {
@@ -108,6 +174,7 @@ ClipOutputPaths clip_output_paths(const std::string& out_folder, const std::stri
   p.log = p.stem + ".log";
   p.report_dir = p.stem + ".report";
   p.report = p.report_dir + "/report.json";
+  p.complete = p.stem + ".complete";
   return p;
 }
 
@@ -140,6 +207,7 @@ UpToDate check_up_to_date(const std::string& input, const ClipOutputPaths& paths
       return no("check report unreadable");
     }
   }
+  if (const std::string why = check_completion_marker(paths, check); !why.empty()) return no(why);
   return {true, "up to date"};
 }
 
@@ -149,6 +217,7 @@ int remove_stale_temporaries(const ClipOutputPaths& paths) {
   std::vector<std::string> bases;
   for (const std::string& d : paths.data) bases.push_back(fs::path(d).filename().string());
   bases.push_back(fs::path(paths.meta).filename().string());
+  bases.push_back(fs::path(paths.complete).filename().string());
   folders.emplace_back(fs::path(paths.stem).parent_path(), bases);
   std::vector<std::string> report_bases = {"report.json", "report.txt"};
   for (const char* plot : kPlotNames) report_bases.emplace_back(plot);

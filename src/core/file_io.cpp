@@ -13,18 +13,56 @@
 
 namespace rt {
 
-std::string read_file(const std::string& path, std::uint64_t max_bytes) {
+namespace {
+
+// "a FIFO", "a character device", ... for a file type that is not a regular file.
+const char* file_kind(mode_t mode) {
+  if (S_ISDIR(mode)) return "a folder";
+  if (S_ISFIFO(mode)) return "a FIFO (named pipe)";
+  if (S_ISCHR(mode)) return "a character device";
+  if (S_ISBLK(mode)) return "a block device";
+  if (S_ISSOCK(mode)) return "a socket";
+  return "not a regular file";
+}
+
+[[noreturn]] void throw_not_regular(const std::string& path, mode_t mode) {
+  if (S_ISDIR(mode)) throw InputError(path, "is a folder, expected a file");
+  throw InputError(path, std::string("is ") + file_kind(mode) + ", expected a regular file");
+}
+
+}  // namespace
+
+void require_regular_file(const std::string& path) {
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0) throw InputError(path, std::string("cannot open: ") + std::strerror(errno));
-  if (S_ISDIR(st.st_mode)) throw InputError(path, "is a folder, expected a file");
+  if (!S_ISREG(st.st_mode)) throw_not_regular(path, st.st_mode);
+}
+
+std::string read_file(const std::string& path, std::uint64_t max_bytes) {
+  // O_NONBLOCK: opening a FIFO must not wait for a writer; fstat then refuses anything but a
+  // regular file (FIFO, device, folder), so a reader never blocks or reads /dev/zero forever.
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) throw InputError(path, std::string("cannot open: ") + std::strerror(errno));
+  struct Closer {
+    int fd;
+    ~Closer() { ::close(fd); }
+  } closer{fd};
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) throw InputError(path, std::string("cannot open: ") + std::strerror(errno));
+  if (!S_ISREG(st.st_mode)) throw_not_regular(path, st.st_mode);
   if (static_cast<std::uint64_t>(st.st_size) > max_bytes)
     throw InputError(path, "file is too large (" + std::to_string(st.st_size) + " bytes, limit " +
                                std::to_string(max_bytes) + ")");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, std::string("cannot open: ") + std::strerror(errno));
   std::string data(static_cast<std::size_t>(st.st_size), '\0');
-  in.read(data.data(), static_cast<std::streamsize>(data.size()));
-  data.resize(static_cast<std::size_t>(in.gcount()));
+  std::size_t got = 0;
+  while (got < data.size()) {
+    const ssize_t n = ::read(fd, data.data() + got, data.size() - got);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) throw InputError(path, std::string("cannot read: ") + std::strerror(errno));
+    if (n == 0) break;  // the file shrank while we read it
+    got += static_cast<std::size_t>(n);
+  }
+  data.resize(got);
   return data;
 }
 

@@ -9,7 +9,9 @@ namespace rt {
 MatX gaussian_filter(const MatX& x, double sigma) {
   const auto T = static_cast<int>(x.cols());
   if (!(sigma > 1e-3) || T < 2) return x;
-  const int half = static_cast<int>(std::ceil(3 * std::min(sigma, 1e6)));
+  // Beyond the clip's length every tap reads an end sample: no wider kernel than the clip (a huge
+  // rate made the kernel, and the loop over it, unbounded).
+  const int half = static_cast<int>(std::min(std::ceil(3 * std::min(sigma, 1e6)), static_cast<double>(T)));
   std::vector<double> kernel(static_cast<std::size_t>(2 * half + 1));
   double sum = 0;
   for (int i = -half; i <= half; ++i) sum += kernel[static_cast<std::size_t>(i + half)] = std::exp(-0.5 * i * i / (sigma * sigma));

@@ -1,6 +1,8 @@
 #include "retarget/core/json_document.hpp"
 
 #include <algorithm>
+#include <set>
+#include <vector>
 
 #include "retarget/core/error.hpp"
 #include "retarget/core/strings.hpp"
@@ -26,6 +28,48 @@ std::string text_location(const std::string& file, std::string_view text, std::s
   }
   return format("%s:%zu:%zu", file.c_str(), line, col);
 }
+
+// Rejects a key that appears twice in one object (nlohmann keeps the last one silently, so a
+// second "fps" would override the first unseen). Keys are named by their path ("contacts.left").
+class DuplicateKeyCheck {
+ public:
+  explicit DuplicateKeyCheck(std::string file) : file_(std::move(file)) {}
+
+  bool operator()(int /*depth*/, Json::parse_event_t event, Json& parsed) {
+    switch (event) {
+      case Json::parse_event_t::object_start: scopes_.push_back({true, {}, {}}); break;
+      case Json::parse_event_t::array_start: scopes_.push_back({false, {}, {}}); break;
+      case Json::parse_event_t::object_end:
+      case Json::parse_event_t::array_end:
+        if (!scopes_.empty()) scopes_.pop_back();
+        break;
+      case Json::parse_event_t::key:
+        if (!scopes_.empty() && scopes_.back().is_object) {
+          Scope& s = scopes_.back();
+          s.last_key = parsed.is_string() ? parsed.get<std::string>() : parsed.dump();
+          if (!s.keys.insert(s.last_key).second) throw InputError(file_ + ": " + path(), "duplicate key");
+        }
+        break;
+      case Json::parse_event_t::value: break;
+    }
+    return true;
+  }
+
+ private:
+  struct Scope {
+    bool is_object;
+    std::set<std::string> keys;
+    std::string last_key;
+  };
+  std::string path() const {
+    std::string p;
+    for (const Scope& s : scopes_)
+      if (s.is_object && !s.last_key.empty()) p += (p.empty() ? "" : ".") + s.last_key;
+    return p;
+  }
+  std::string file_;
+  std::vector<Scope> scopes_;
+};
 
 }  // namespace
 
@@ -53,7 +97,7 @@ std::string json_type_phrase(const Json& j) {
 Json parse_json_object(std::string_view text, const std::string& file, const std::string& what, int max_depth) {
   Json j;
   try {
-    j = Json::parse(text.begin(), text.end());
+    j = Json::parse(text.begin(), text.end(), DuplicateKeyCheck(file));
   } catch (const Json::parse_error& e) {
     // what() is "[json.exception.parse_error.101] parse error at line 3, column 5: <detail>";
     // keep the detail, use our own location format.

@@ -1,6 +1,9 @@
 #include "retarget/core/yaml_view.hpp"
 
 #include <cmath>
+#include <set>
+#include <utility>
+#include <vector>
 
 #include "retarget/core/file_io.hpp"
 #include "retarget/core/strings.hpp"
@@ -9,12 +12,43 @@ namespace rt {
 
 namespace {
 
+// yaml-cpp keeps both of two equal keys and lookups see the first: a second `feet:` would be
+// ignored unseen. Refused at the second key's line, with its path. Iterative (no recursion on a
+// hostile nesting depth); aliases are followed once per node.
+void reject_duplicate_keys(const YAML::Node& root, const std::string& name) {
+  std::vector<std::pair<YAML::Node, std::string>> stack{{root, ""}};
+  std::size_t visited = 0;
+  while (!stack.empty()) {
+    const auto [node, path] = stack.back();
+    stack.pop_back();
+    if (++visited > (1u << 22)) throw InputError(name, "YAML document too large (more than 4M nodes, aliases counted)");
+    if (node.IsMap()) {
+      std::set<std::string> keys;
+      for (const auto& kv : node) {
+        const std::string key = kv.first.IsScalar() ? kv.first.Scalar() : std::string("<complex key>");
+        const std::string child = path.empty() ? key : path + "." + key;
+        if (!keys.insert(key).second) {
+          const YAML::Mark m = kv.first.Mark();
+          throw InputError(m.line < 0 ? name : name + ":" + std::to_string(m.line + 1), child + ": duplicate key");
+        }
+        stack.emplace_back(kv.second, child);
+      }
+    } else if (node.IsSequence()) {
+      std::size_t i = 0;
+      for (const auto& item : node) stack.emplace_back(item, path + "[" + std::to_string(i++) + "]");
+    }
+  }
+}
+
 YamlView parse(const std::string& text, const std::string& name) {
+  YAML::Node root;
   try {
-    return YamlView(YAML::Load(text), name, "");
+    root = YAML::Load(text);
   } catch (const YAML::Exception& e) {
     throw InputError(name + ":" + std::to_string(e.mark.line + 1), "YAML syntax error: " + e.msg);
   }
+  reject_duplicate_keys(root, name);
+  return YamlView(root, name, "");
 }
 
 }  // namespace

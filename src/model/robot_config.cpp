@@ -1,5 +1,6 @@
 #include "retarget/model/robot_config.hpp"
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <set>
@@ -49,9 +50,13 @@ class ConfigParser {
     auto v = parent.find(key);
     return v ? number(*v, lo, hi, what) : fallback;
   }
+  // A point or size on a link [m]: a robot is a few metres, so 1e300 is a typo, not a pose.
   Vec3 vec3(const YamlView& v) {
+    constexpr double kMaxLength_m = 100;
     const auto xs = mark(v).as_doubles();
     if (xs.size() != 3) v.fail("expected a list of 3 numbers, got " + std::to_string(xs.size()));
+    for (double x : xs)
+      if (!(std::abs(x) <= kMaxLength_m)) v.fail(format("%g m is not between -100 and 100 m", x));
     return Vec3(xs[0], xs[1], xs[2]);
   }
   std::string name_string(const YamlView& v) {
@@ -245,7 +250,12 @@ RobotConfig parse_robot_config(const std::string& yaml_text, const std::string& 
 RobotConfig load_robot_config(const std::string& robot, const std::vector<std::string>& extra_package_paths) {
   fs::path path(robot);
   std::error_code ec;
-  if (fs::is_directory(path, ec)) path /= "robot.yaml";
+  const bool folder = fs::is_directory(path, ec);
+  if (folder) path /= "robot.yaml";
+  // Something that exists but is no regular file (a FIFO would block the read, a device never
+  // ends): say what it is rather than "not found".
+  if (fs::exists(path, ec) && !is_file(path)) require_regular_file(path.string());
+  if (folder && !is_file(path)) throw InputError(robot, "robot not found: the folder holds no robot.yaml");
   if (!is_file(path)) {
     // A bare name: look for <root>/<name>/robot.yaml along the robot search path.
     const bool bare_name = robot.find('/') == std::string::npos && !ends_with(robot, ".yaml") && !robot.empty();

@@ -1,8 +1,11 @@
 #include "retarget/motion/load_motion.hpp"
 
+#include <cerrno>
+#include <cstring>
 #include <fstream>
 
 #include "retarget/core/error.hpp"
+#include "retarget/core/file_io.hpp"
 #include "retarget/core/strings.hpp"
 #include "retarget/motion/bvh/bvh_motion.hpp"
 #include "retarget/motion/c3d/c3d_motion.hpp"
@@ -16,8 +19,9 @@ enum class Kind { Bvh, C3d, Unknown };
 // By content first (a C3D header has 0x50 in its second byte; a BVH starts with HIERARCHY), so a
 // misnamed file is still read correctly; then by extension.
 Kind sniff(const std::string& path) {
+  require_regular_file(path);  // a FIFO would block the open below; /dev/zero is no clip
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, "cannot open");
+  if (!in) throw InputError(path, std::string("cannot open: ") + std::strerror(errno));
   char head[64] = {};
   in.read(head, sizeof head);
   const std::size_t n = static_cast<std::size_t>(in.gcount());

@@ -78,22 +78,24 @@ struct Frames {
 }  // namespace
 
 ComPlanPass::ComPlanPass() {
-  table_.add("period", options_.plan.period_s, "[s] planning grid");
+  table_.add("period", options_.plan.period_s, "[s] planning grid", {0.001, 0.1, "s"});
   table_.add("margin", options_.margin_m, "[m] the planned ZMP keeps this far inside the support polygon");
   table_.add("com_tracking", options_.plan.com_weight, "plan: weight of |c - c_retargeted|^2 [1/m^2]");
   table_.add("jerk", options_.plan.jerk_weight, "plan: weight of |c'''|^2 [s^6/m^2] (2e-8: 3 Hz low-pass)");
   table_.add("flight_acceleration", options_.plan.flight_acceleration_weight, "plan: weight of |c''|^2 on flight samples");
   table_.add("rest_start", options_.plan.rest_at_start, "plan: COM at rest at the first frame");
   table_.add("rest_end", options_.plan.rest_at_end, "plan: COM at rest at the last frame");
-  table_.add("smoothing", options_.smoothing_s, "[s] Gaussian low-pass of the pose, swing soles and COM height the IK follows");
-  table_.add("swing_smoothing", options_.swing_smoothing_s, "[s] Gaussian low-pass of the swing soles' trajectories (0: as they are)");
+  table_.add("smoothing", options_.smoothing_s, "[s] Gaussian low-pass of the pose, swing soles and COM height the IK follows",
+             {0, 1, "s"});
+  table_.add("swing_smoothing", options_.swing_smoothing_s, "[s] Gaussian low-pass of the swing soles' trajectories (0: as they are)",
+             {0, 1, "s"});
   table_.add("max_offset", options_.max_offset_m, "[m] longest angular-momentum ZMP correction used by the plan");
-  table_.add("iterations", options_.iterations, "plan + COM-following rounds of the multibody correction");
+  table_.add("iterations", options_.iterations, "plan + COM-following rounds of the multibody correction", {0, 100, ""});
   table_.add("com_weight", options_.com_weight, "COM-following IK: weight of the COM target");
   table_.add("foot_weight", options_.foot_weight, "COM-following IK: weight holding the soles");
   table_.add("landmark_factor", options_.landmark_factor, "COM-following IK: factor on the other landmarks' weights");
   table_.add("posture_regularization", options_.posture_regularization, "COM-following IK: pull towards the frame's pose");
-  table_.add("ik_iterations", options_.ik_iterations, "COM-following IK: iterations per frame");
+  table_.add("ik_iterations", options_.ik_iterations, "COM-following IK: iterations per frame", {1, 10000, ""});
   table_.add("velocity_margin", options_.velocity_margin, "fraction of each velocity limit the frame-to-frame bounds keep free");
   table_.add("foot_tolerance", options_.foot_tolerance_m, "[m] a round that moves a held sole further is dropped");
   table_.add("follow_tolerance", options_.follow_tolerance_m, "[m] frames whose COM misses the plan by more are reported");
@@ -104,7 +106,7 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
   RobotData& data = ctx.data();
   RobotMotion& motion = clip.motion;
   const int T = motion.num_frames();
-  if (T == 0) throw InternalError("com-plan: run the ik pass first");
+  if (T == 0) throw InputError("--passes", "com-plan needs the robot motion of the ik pass: put ik before com-plan");
   const double fps = motion.fps, dt = options_.plan.period_s;
   if (!(dt > 0 && dt <= 0.1)) throw InputError("com-plan{period}", "must be in (0, 0.1] s");
   if (!(options_.margin_m >= 0 && options_.margin_m < 0.1)) throw InputError("com-plan{margin}", "must be in [0, 0.1) m");

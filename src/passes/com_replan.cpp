@@ -77,13 +77,14 @@ ComReplanPlan plan_com(const BalanceController& balance, const ComReplanOptions&
 }
 
 ComReplanPass::ComReplanPass() {
-  table_.add("horizon", options_.replan.horizon, "N: prediction window in model steps");
-  table_.add("period", options_.replan.period_s, "[s] discretisation of the balance model (eq. 25)");
+  table_.add("horizon", options_.replan.horizon, "N: prediction window in model steps", {1, 2000, "steps"});
+  table_.add("period", options_.replan.period_s, "[s] discretisation of the balance model (eq. 25)", {0.001, 0.1, "s"});
   table_.add("h_max", options_.replan.h_max, "eq. 33/34: how close to the polygon border the desired COP may be");
   table_.add("w", options_.replan.w, "eq. 31: W_ii = w i^2");
   table_.add("margin", options_.replan.margin_m, "[m] the predicted COP must stay this far inside the polygon");
   table_.add("feedforward", options_.preview.feedforward, "preview the balance controller with feed-forward (as the check runs it)");
-  table_.add("com_smoothing", options_.preview.com_smoothing_s, "[s] Gaussian smoothing of the COM before its derivatives (feed-forward)");
+  table_.add("com_smoothing", options_.preview.com_smoothing_s, "[s] Gaussian smoothing of the COM before its derivatives (feed-forward)",
+             {0, 1, "s"});
   table_.add("max_shift", options_.max_shift_m, "[m] largest COM shift given to the COM-following IK (longer ones are clipped)");
   table_.add("velocity_margin", options_.velocity_margin, "fraction of each velocity limit the COM-following steps keep free");
   table_.add("foot_tolerance", options_.foot_tolerance_m, "[m] how far a held sole may move before a shift is halved");
@@ -99,7 +100,7 @@ void ComReplanPass::run(Clip& clip, PassContext& ctx) {
   RobotData& data = ctx.data();
   RobotMotion& motion = clip.motion;
   const int T = motion.num_frames();
-  if (T == 0) throw InternalError("com-replan: run the ik pass first");
+  if (T == 0) throw InputError("--passes", "com-replan needs the robot motion of the ik pass: put ik before com-replan");
   const double fps = motion.fps;
 
   // Per source frame: COM, sole frames, support polygon.

@@ -25,7 +25,7 @@ std::pair<double, double> sole_tilt_and_height(const RobotModel& model, RobotDat
 FlatContactPass::FlatContactPass() {
   table_.add("sole_weight", options_.sole_weight, "weight of the flat sole targets");
   table_.add("regularization", options_.regularization, "pull towards the original joint angles");
-  table_.add("max_iterations", options_.max_iterations, "IK iterations");
+  table_.add("max_iterations", options_.max_iterations, "IK iterations", {0, 10000, ""});
   table_.add("max_offset", options_.max_offset_rad, "[rad] largest offset added to any joint");
   table_.add("max_error_growth", options_.max_error_growth, "largest relative growth of the mean landmark error");
 }

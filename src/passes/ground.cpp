@@ -10,7 +10,7 @@
 namespace rt {
 
 GroundPass::GroundPass() {
-  table_.add("smoothing", options_.smoothing_s, "[s] moving-average width of the height offset");
+  table_.add("smoothing", options_.smoothing_s, "[s] moving-average width of the height offset", {0, 10, "s"});
 }
 
 void GroundPass::run(Clip& clip, PassContext& ctx) {
@@ -18,7 +18,7 @@ void GroundPass::run(Clip& clip, PassContext& ctx) {
   RobotData& data = ctx.data();
   RobotMotion& motion = clip.motion;
   const int T = motion.num_frames();
-  if (T == 0) throw InternalError("ground: run the ik pass first");
+  if (T == 0) throw InputError("--passes", "ground needs the robot motion of the ik pass: put ik before ground");
   std::vector<double> stance_z(static_cast<std::size_t>(T), NAN), all_z(static_cast<std::size_t>(T));
   for (int f = 0; f < T; ++f) {
     update_kinematics(model, data, motion.q.col(f));

@@ -147,11 +147,11 @@ VecX initial_guess(const RobotModel& model, const LandmarkTargets& targets) {
 }
 
 IkPass::IkPass() {
-  table_.add("max_iterations", options_.ik.max_iterations, "LM iterations per frame");
+  table_.add("max_iterations", options_.ik.max_iterations, "LM iterations per frame", {1, 10000, ""});
   table_.add("step_tolerance", options_.ik.step_tolerance, "[rad, m] stop when no coordinate moves more");
   table_.add("cost_tolerance", options_.ik.cost_tolerance, "stop when a step lowers the cost by less than this fraction");
   table_.add("regularization", options_.ik.regularization, "weight of the distance to the previous frame");
-  table_.add("first_frame_iterations", options_.first_frame_iterations, "LM iterations for frame 0 (cold start)");
+  table_.add("first_frame_iterations", options_.first_frame_iterations, "LM iterations for frame 0 (cold start)", {1, 100000, ""});
   table_.add("interpolated_weight", options_.interpolated_weight, "weight factor of gap-filled landmark samples");
   table_.add("stance_weight", options_.stance_weight, "weight factor of foot landmarks in stance (0: no stance lock)");
   table_.add("reseed_error", options_.reseed_error_m, "[m] frames above this RMS error are re-solved from the standing pose ...");

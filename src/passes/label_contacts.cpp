@@ -251,8 +251,8 @@ LabelContactsPass::LabelContactsPass() {
   table_.add("height_off", options_.height_off, "[leg lengths] lift-off height above a landmark's resting height");
   table_.add("speed_on", options_.speed_on, "[leg lengths/s, source time] horizontal speed below which a low foot is in contact");
   table_.add("speed_off", options_.speed_off, "[leg lengths/s, source time] horizontal speed above which a foot is not in contact");
-  table_.add("min_phase", options_.min_phase_s, "[s, source time] shortest stance or swing phase");
-  table_.add("min_double_support", options_.min_double_support_s, "[s, source time] double support at every weight transfer");
+  table_.add("min_phase", options_.min_phase_s, "[s, source time] shortest stance or swing phase", {0, 10, "s"});
+  table_.add("min_double_support", options_.min_double_support_s, "[s, source time] double support at every weight transfer", {0, 10, "s"});
   table_.add("airborne_height", options_.airborne_height, "[leg lengths] both feet above this: a flight phase");
   table_.add("rest_percentile", options_.rest_percentile, "percentile of a landmark's height taken as resting height");
 }

@@ -192,18 +192,18 @@ std::vector<MatX> landmark_metric(const RobotModel& model, RobotData& data, cons
 }  // namespace
 
 RefinePass::RefinePass() {
-  table_.add("smoothing_hz", options_.smoothing_hz, "[Hz] cutoff of the joint-space smoother (0: no smoothing)");
+  table_.add("smoothing_hz", options_.smoothing_hz, "[Hz] cutoff of the joint-space smoother (0: no smoothing)", {0, 1000, "Hz"});
   table_.add("robust_threshold", options_.robust_threshold, "[sigma] samples this far from the smoothed curve are weighted down (0: plain)");
   table_.add("velocity_margin", options_.velocity_margin, "fraction of each joint speed limit kept free");
   table_.add("max_joint_speed", options_.max_joint_speed, "[rad/s] cap on every joint's speed below its URDF limit (0: none)");
   table_.add("limit_margin", options_.limit_margin, "[rad, m] distance kept from the joint position limits");
   table_.add("swing_clearance", options_.swing_clearance_m, "[m] swing sole height beyond swing_guard of lift-off/touchdown");
-  table_.add("swing_guard", options_.swing_guard_s, "[s] near lift-off and touchdown the swing sole may be lower");
+  table_.add("swing_guard", options_.swing_guard_s, "[s] near lift-off and touchdown the swing sole may be lower", {0, 10, "s"});
   table_.add("stance_weight", options_.stance_weight, "weight of the stance sole targets [1/m^2]");
   table_.add("swing_weight", options_.swing_weight, "weight of the swing sole targets [1/m^2]");
   table_.add("floor_weight", options_.floor_weight, "weight of collision points below the floor [1/m^2]");
-  table_.add("rounds", options_.rounds, "smooth + project rounds at most");
-  table_.add("max_iterations", options_.max_iterations, "projection iterations per frame");
+  table_.add("rounds", options_.rounds, "smooth + project rounds at most", {0, 100, ""});
+  table_.add("max_iterations", options_.max_iterations, "projection iterations per frame", {0, 10000, ""});
   table_.add("landmark_metric", options_.landmark_metric, "weigh the foot correction by the landmark cost (false: joint-space stiffness only)");
 }
 

@@ -54,9 +54,10 @@ VecX config_at(const MatX& controls, double t, int nq) {
 }  // namespace
 
 RefineIpoptPass::RefineIpoptPass() {
-  table_.add("knot_fps", options_.knot_fps, "[Hz] spline knot rate (stride = round(source fps / knot_fps))");
-  table_.add("window", options_.window, "spline control points per window");
-  table_.add("overlap", options_.overlap, "control points shared by consecutive windows (>= 3)");
+  table_.add("knot_fps", options_.knot_fps, "[Hz] spline knot rate (stride = round(source fps / knot_fps))",
+             {0.1, 1000, "Hz"});
+  table_.add("window", options_.window, "spline control points per window", {4, 10000, ""});
+  table_.add("overlap", options_.overlap, "control points shared by consecutive windows (>= 3)", {3, 10000, ""});
   table_.add("acceleration_weight", options_.acceleration_weight, "weight of the squared acceleration per control point");
   table_.add("pull_weight", options_.pull_weight, "weight of the squared distance to the per-frame IK");
   table_.add("interpolated_weight", options_.interpolated_weight, "weight factor of gap-filled landmark samples");
@@ -65,7 +66,7 @@ RefineIpoptPass::RefineIpoptPass() {
   table_.add("velocity_activation", options_.velocity_activation, "velocity rows enter the NLP above this fraction of their bound");
   table_.add("limit_margin", options_.limit_margin, "[rad, m] distance kept from the joint position limits");
   table_.add("floor_check_height", options_.floor_check_height, "[m] swing-foot corners below this are kept above the floor");
-  table_.add("max_iterations", options_.max_iterations, "Ipopt iterations per window");
+  table_.add("max_iterations", options_.max_iterations, "Ipopt iterations per window", {1, 100000, ""});
   table_.add("tolerance", options_.tolerance, "Ipopt convergence tolerance");
   table_.add("mu_init", options_.mu_init, "Ipopt initial barrier parameter");
 }

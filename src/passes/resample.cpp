@@ -3,13 +3,14 @@
 #include <cmath>
 
 #include "retarget/core/error.hpp"
+#include "retarget/core/limits.hpp"
 #include "retarget/model/robot_model.hpp"
 
 namespace rt {
 
 Reference resample_motion(const RobotModel& model, const RobotMotion& motion, const ContactSchedule& contacts,
                           const Mat3X& com_W, const Eigen::Matrix2Xd& cop_W, double fps_out) {
-  if (!(fps_out > 0 && fps_out <= 10000)) throw InputError("--fps", "output rate must be in (0, 10000] Hz");
+  check_frame_rate(fps_out, "--fps", "the output frame rate", kMinFrameRate_hz, kMaxOutputFrameRate_hz);
   const int T = motion.num_frames();
   RT_DEMAND(T > 0 && motion.fps > 0, "resample: empty motion");
   const double duration = (T - 1) / motion.fps;
@@ -55,10 +56,10 @@ Reference resample_motion(const RobotModel& model, const RobotMotion& motion, co
   return ref;
 }
 
-ResamplePass::ResamplePass() { table_.add("fps", options_.fps, "[Hz] output frame rate"); }
+ResamplePass::ResamplePass() { table_.add("fps", options_.fps, "[Hz] output frame rate", {kMinFrameRate_hz, kMaxOutputFrameRate_hz, "Hz"}); }
 
 void ResamplePass::run(Clip& clip, PassContext& ctx) {
-  if (clip.motion.num_frames() == 0) throw InternalError("resample: run the ik pass first");
+  if (clip.motion.num_frames() == 0) throw InputError("--passes", "resample needs the robot motion of the ik pass: put ik before resample");
   clip.reference = resample_motion(ctx.model(), clip.motion, clip.contacts, clip.com_replanned_W, clip.cop_predicted_W,
                                    options_.fps);
   ctx.statistics.set("frames-out", clip.reference.num_frames(), "frames");

@@ -4,6 +4,8 @@
 #include <cmath>
 
 #include "retarget/core/error.hpp"
+#include "retarget/core/limits.hpp"
+#include "retarget/core/strings.hpp"
 
 namespace rt {
 
@@ -12,6 +14,7 @@ HumanMotion retime_motion(const HumanMotion& in, double S) {
   if (S == 1.0 || in.num_frames < 2) return in;
   const int T = in.num_frames;
   const double duration = (T - 1) / in.fps;
+  check_clip_duration(duration * S, "--time-scale", format("the clip played %g times slower", S));
   const int T_out = static_cast<int>(std::floor(duration * S * in.fps + 1e-9)) + 1;
   HumanMotion out = in;
   out.num_frames = T_out;
@@ -40,7 +43,8 @@ HumanMotion retime_motion(const HumanMotion& in, double S) {
 }
 
 RetimePass::RetimePass() {
-  table_.add("time_scale", options_.time_scale, "> 1 slows the clip down (2 = half speed), < 1 speeds it up");
+  table_.add("time_scale", options_.time_scale, "> 1 slows the clip down (2 = half speed), < 1 speeds it up",
+             {0.05, 20, ""});
 }
 
 void RetimePass::run(Clip& clip, PassContext& ctx) {

@@ -4,6 +4,7 @@
 #include <cstdlib>
 
 #include "retarget/core/error.hpp"
+#include "retarget/core/limits.hpp"
 #include "retarget/core/strings.hpp"
 
 namespace rt {
@@ -18,19 +19,30 @@ double parse_double(const std::string& name, const std::string& text) {
   return v;
 }
 
+void check_range(const std::string& name, double v, const OptionRange& r) {
+  if (v >= r.lo && v <= r.hi) return;
+  throw InputError(format("option %s: %g is not %s", name.c_str(), v, range_in_words(r.lo, r.hi, r.unit).c_str()));
+}
+
 }  // namespace
 
-void OptionTable::add(const std::string& name, double& field, const std::string& doc) {
-  entries_.push_back({name, doc, [&field, name](const std::string& v) { field = parse_double(name, v); },
+void OptionTable::add(const std::string& name, double& field, const std::string& doc, const OptionRange& range) {
+  entries_.push_back({name, doc,
+                      [&field, name, range](const std::string& v) {
+                        const double d = parse_double(name, v);
+                        check_range(name, d, range);
+                        field = d;
+                      },
                       [&field] { return format("%g", field); }});
 }
 
-void OptionTable::add(const std::string& name, int& field, const std::string& doc) {
+void OptionTable::add(const std::string& name, int& field, const std::string& doc, const OptionRange& range) {
   entries_.push_back({name, doc,
-                      [&field, name](const std::string& v) {
+                      [&field, name, range](const std::string& v) {
                         const double d = parse_double(name, v);
                         if (d != std::floor(d) || std::abs(d) > 1e9)
                           throw InputError("option " + name + ": expected an integer, got '" + v + "'");
+                        check_range(name, d, range);
                         field = static_cast<int>(d);
                       },
                       [&field] { return std::to_string(field); }});

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
 #include <sys/wait.h>
 
 #include <cstdlib>
@@ -124,6 +125,99 @@ TEST(Cli, ValidateRejectsBadReferences) {
   const CliRun wrong = run(dir, "validate g1.csv --fps 30 " + robot);
   EXPECT_EQ(wrong.status, 2);
   EXPECT_EQ(lines(wrong.err), 1) << wrong.err;
+}
+
+// Issue 18 items 1-3 and 10: hostile rates, durations and pass options are one-line usage errors
+// (exit 2) that state the valid range in words, never a crash, hang or huge allocation.
+TEST(Cli, HostileRatesAndOptionsExit2WithTheRangeInWords) {
+  const std::string dir = test::scratch_dir();
+  const std::string robot = "--robot '" + test::source_path("robots/humanoid25") + "'";
+  std::string row = "0,0,0.79,0,0,0,1";
+  for (int j = 0; j < 25; ++j) row += ",0";
+  std::string csv;
+  for (int t = 0; t < 105; ++t) csv += row + "\n";
+  write(dir + "/ref.csv", csv);
+  auto expect_usage = [&](const std::string& args, const std::string& says) {
+    const CliRun r = run(dir, args);
+    EXPECT_EQ(r.status, 2) << args << ": " << r.err;
+    EXPECT_NE(r.err.find(says), std::string::npos) << args << ": " << r.err;
+    EXPECT_LE(r.err.size(), 200u) << args << ": " << r.err;  // no 309-digit numbers
+  };
+  for (const char* fps : {"1e300", "1e11", "1e9", "0.01", "inf", "nan", "-1"})
+    expect_usage("validate ref.csv --fps " + std::string(fps) + " " + robot, "between 1 and 10000 Hz");
+  const std::string clip = "'" + test::source_path("examples/clips/foot_lift.bvh") + "'";
+  expect_usage("convert " + clip + " " + robot + " --fps 1e300", "between 1 and 1000 Hz");
+  expect_usage("convert " + clip + " " + robot + " --source-fps 1e-6", "between 1 and 10000 Hz");
+  expect_usage("convert " + clip + " " + robot + " --time-scale 1e300", "between 0.05 and 20");
+  expect_usage("inspect " + clip + " --source-fps 0", "between 1 and 10000 Hz");
+  expect_usage("batch x -o out " + robot + " --memory-limit 1e300", "between 0 and 16777216 MiB");
+  expect_usage("batch x -o out " + robot + " -j 1e300", "between 1 and 1024");
+
+  // A meta.json with an absurd or a duplicate "fps" (the last one silently won).
+  const CliRun conv = run(dir, "convert " + clip + " " + robot + " -o lift --no-refine");
+  ASSERT_EQ(conv.status, 0) << conv.err;
+  const std::string meta = read_file(dir + "/lift.meta.json");
+  const auto at = meta.find("\"fps\":");
+  ASSERT_NE(at, std::string::npos);
+  write(dir + "/dup.csv", read_file(dir + "/lift.csv"));
+  write(dir + "/dup.meta.json", meta.substr(0, at) + "\"fps\": 0.001, " + meta.substr(at));
+  expect_usage("validate dup.csv " + robot, "dup.meta.json: fps: duplicate key");
+  write(dir + "/slow.csv", read_file(dir + "/lift.csv"));
+  std::string slow = meta;
+  slow.replace(at, slow.find_first_of(",\n", at) - at, "\"fps\": 0.001");
+  write(dir + "/slow.meta.json", slow);
+  expect_usage("validate slow.csv " + robot, "slow.meta.json [fps]: the frame rate is 0.001 Hz, not between 1 and 10000 Hz");
+
+  // BVH Frame Time of 1000 s and 100 s (3.4 GB and a 238 MB CSV before).
+  std::string bvh = read_file(test::source_path("examples/clips/foot_lift.bvh"));
+  const auto ft = bvh.find("Frame Time:");
+  ASSERT_NE(ft, std::string::npos);
+  for (const char* t : {"1000", "100"}) {
+    write(dir + "/slow.bvh", bvh.substr(0, ft) + "Frame Time: " + t + bvh.substr(bvh.find('\n', ft)));
+    expect_usage("convert slow.bvh " + robot + " --no-refine -o slow", "slow.bvh:");
+  }
+
+  // Pipelines missing a pass, and pass options that size work.
+  for (const char* passes : {"refine", "ik", "ground", "resample", "com-replan", "com-plan"})
+    expect_usage("convert " + clip + " " + robot + " --passes " + passes, "--passes: ");
+  expect_usage("convert " + clip + " " + robot + " --passes 'scale,ik,com-replan{period=1e-9}'",
+               "option period: 1e-09 is not between 0.001 and 0.1 s");
+  expect_usage("convert " + clip + " " + robot + " --passes 'scale,ik,resample{fps=1e300}'",
+               "option fps: 1e+300 is not between 1 and 1000 Hz");
+}
+
+// Issue 18 items 6 and 8: FIFOs, devices and folders are refused up front (a FIFO blocked every
+// reader, /dev/zero was "empty", `inspect` said "robot not found"); a write past the file-size
+// limit (SIGXFSZ killed the process) is an error that leaves no temporary behind.
+TEST(Cli, FifosDevicesFoldersAndFileSizeLimit) {
+  const std::string dir = test::scratch_dir();
+  const std::string robot = "--robot '" + test::source_path("robots/humanoid25") + "'";
+  ASSERT_EQ(::mkfifo((dir + "/clip.bvh").c_str(), 0644), 0);
+  ASSERT_EQ(::mkfifo((dir + "/robot.yaml").c_str(), 0644), 0);
+  std::filesystem::create_directories(dir + "/empty_folder");
+  for (const auto& [args, says] : std::vector<std::pair<std::string, std::string>>{
+           {"convert clip.bvh " + robot, "clip.bvh: is a FIFO (named pipe)"},
+           {"inspect clip.bvh", "clip.bvh: is a FIFO (named pipe)"},
+           {"inspect robot.yaml", "robot.yaml: is a FIFO (named pipe)"},
+           {"inspect empty_folder", "the folder holds no robot.yaml"},
+           {"convert /dev/zero " + robot, "/dev/zero: is a character device"},
+           {"validate clip.bvh " + robot, "clip.bvh"}}) {
+    const CliRun r = run(dir, args);
+    EXPECT_EQ(r.status, 2) << args << ": " << r.err;
+    EXPECT_EQ(lines(r.err), 1) << args << ": " << r.err;
+    EXPECT_NE(r.err.find(says), std::string::npos) << args << ": " << r.err;
+  }
+  // ulimit -f 8 (4 KiB blocks of 512 bytes): the CSV does not fit.
+  const std::string cmd = "cd '" + dir + "' && ulimit -f 8 && '" RT_RETARGET_BIN "' convert '" +
+                          test::source_path("examples/clips/foot_lift.bvh") + "' " + robot +
+                          " --no-refine -o out/lift > /dev/null 2> small.txt";
+  const int raw = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(raw)) << "killed by a signal";
+  EXPECT_EQ(WEXITSTATUS(raw), 2);
+  const std::string err = read_file(dir + "/small.txt");
+  EXPECT_NE(err.find("cannot write: File too large"), std::string::npos) << err;
+  for (const auto& e : std::filesystem::directory_iterator(dir + "/out"))
+    EXPECT_EQ(e.path().filename().string().find(".tmp."), std::string::npos) << e.path();
 }
 
 // Third-party G1 references (issue 5): validate runs to completion and writes a report that parses;

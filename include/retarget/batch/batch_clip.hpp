@@ -28,6 +28,9 @@ struct BatchClip {
   ClipOverrides overrides;
   std::uint64_t input_bytes = 0;  ///< file size (0 when missing); the sharding weight
   std::string origin;             ///< where the clip was listed: "manifest.yaml:12", or the folder
+  /// The resolved folder the input must stay within (the manifest's folder or the input folder);
+  /// "" with --allow-outside. Checked again when the worker starts (a symlink may change).
+  std::string input_root;
 };
 
 }  // namespace rt

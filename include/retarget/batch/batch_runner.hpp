@@ -6,9 +6,11 @@
 /// goes through callbacks, and the caller writes the summary (write_summary) — run_batch writes
 /// it too, into the output folder, before returning.
 ///
-/// Only one batch (per shard) may run on an output folder at a time: run_batch holds an flock on
-/// `<out>/.retarget-batch[-shard-I-of-N].lock` (released by the kernel when the process dies, so a
-/// `kill -9` never leaves it stale).
+/// No two batches may write one clip of an output folder at a time, whatever their shard tags:
+/// run_batch holds a lock on each of its clips in `<out>/.retarget-batch.lock` (fcntl byte locks,
+/// released by the kernel when the process dies, so a `kill -9` never leaves them stale). Shards of
+/// one `--shard I/N` split hold disjoint clips and run side by side; a plain batch and a
+/// `--shard 1/1` one into the same folder do not.
 
 #include <cstdint>
 #include <functional>

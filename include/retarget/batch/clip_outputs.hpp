@@ -7,13 +7,19 @@
 ///   out/walks/walk01.meta.json     written last by convert: its presence marks complete data files
 ///   out/walks/walk01.log           the worker's stdout + stderr
 ///   out/walks/walk01.report/       report.json, report.txt and SVG plots (with --check)
+///   out/walks/walk01.complete      the completion marker, written by the batch last of all
 ///
 /// Up to date (the clip is skipped unless --force) when all of these hold:
 ///   - meta.json exists, parses, and is newer than the input file;
 ///   - its recorded source.sha256, robot_config.sha256, urdf_sha256 and options_sha256 equal the
 ///     current ones (input content, robot.yaml, URDF, convert_options_sha256 of the request);
 ///   - every data file of the requested formats exists and is listed in the meta's `files`;
-///   - with --check: report.json exists, parses, and is not older than meta.json.
+///   - with --check: report.json exists, parses, and is not older than meta.json;
+///   - the completion marker exists and every file it lists (data, meta, log and, with --check,
+///     each file of the report folder) still has the size it recorded, and meta.json the same
+///     SHA-256. The batch writes the marker only after the worker exited and its outputs were
+///     read back complete, and removes it before a worker is started on the clip, so a worker
+///     killed at any moment (or a full disk) leaves a clip that the next run redoes.
 /// A data file without a meta (a crash between the two writes) or a stale temporary
 /// (`*.tmp.<pid>.<n>` of write_file_atomic) is therefore never taken for a finished output;
 /// remove_stale_temporaries() deletes such temporaries before a clip is redone.
@@ -33,6 +39,7 @@ struct ClipOutputPaths {
   std::string log;         ///< stem + .log
   std::string report_dir;  ///< stem + .report
   std::string report;      ///< report_dir + /report.json
+  std::string complete;    ///< stem + .complete (the completion marker)
 };
 
 ClipOutputPaths clip_output_paths(const std::string& out_folder, const std::string& output_name,
@@ -55,6 +62,14 @@ struct UpToDate {
 /// to date).
 UpToDate check_up_to_date(const std::string& input, const ClipOutputPaths& paths, const ExpectedHashes& expected,
                           bool check);
+
+/// Writes the completion marker (format `retarget-clip-complete`: every output file of the clip
+/// with its size, meta.json with its SHA-256) atomically. Call it after the outputs were read back
+/// complete. InputError when the marker cannot be written.
+void write_completion_marker(const ClipOutputPaths& paths, bool check);
+
+/// Removes the completion marker (before a worker is started on the clip); absent is fine.
+void remove_completion_marker(const ClipOutputPaths& paths);
 
 /// Deletes `<file>.tmp.*` temporaries left by an interrupted atomic write of any of the clip's
 /// files (data, meta, report folder). Returns how many were removed.

@@ -5,10 +5,20 @@
 /// and the option record written to meta.json.
 
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
 namespace rt {
+
+/// The values a numeric option accepts, [lo, hi] (in the option's unit, named in messages). The
+/// options that size work — rates, periods, iteration counts, window lengths — carry one, so
+/// `com-replan{period=1e-9}` is a usage error instead of a huge allocation.
+struct OptionRange {
+  double lo = -std::numeric_limits<double>::infinity();
+  double hi = std::numeric_limits<double>::infinity();
+  std::string unit;  ///< "Hz", "s", "" ...
+};
 
 class OptionTable {
  public:
@@ -19,8 +29,8 @@ class OptionTable {
     std::function<std::string()> get;
   };
 
-  void add(const std::string& name, double& field, const std::string& doc);
-  void add(const std::string& name, int& field, const std::string& doc);
+  void add(const std::string& name, double& field, const std::string& doc, const OptionRange& range = {});
+  void add(const std::string& name, int& field, const std::string& doc, const OptionRange& range = {});
   void add(const std::string& name, bool& field, const std::string& doc);
   void add(const std::string& name, std::string& field, const std::string& doc);
 

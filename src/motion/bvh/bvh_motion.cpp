@@ -9,6 +9,7 @@
 #include "formats/bvh/bvh_kinematics.hpp"
 #include "formats/bvh/bvh_reader.hpp"
 #include "retarget/core/error.hpp"
+#include "retarget/core/limits.hpp"
 #include "retarget/core/strings.hpp"
 #include "retarget/motion/bvh/skeleton_profile.hpp"
 #include "retarget/motion/normalize.hpp"
@@ -240,7 +241,7 @@ HumanMotion bvh_to_human_motion(const BvhFile& file, const MotionLoadOptions& op
   // Frame rate.
   if (options.source_fps) {
     const double fps = *options.source_fps;
-    if (!std::isfinite(fps) || fps <= 0) throw InputError("--source-fps " + format("%g", fps) + ": expected a positive frame rate");
+    check_frame_rate(fps, "--source-fps", "the source frame rate");
     m.fps = fps;
   } else {
     if (!(file.frame_time_s > 0) || !std::isfinite(src.file_fps))
@@ -248,7 +249,13 @@ HumanMotion bvh_to_human_motion(const BvhFile& file, const MotionLoadOptions& op
                        "'Frame Time: " + format("%g", file.frame_time_s) +
                            "' gives no frame rate; pass the rate with --source-fps");
     m.fps = src.file_fps;
+    check_frame_rate(m.fps, file.name + ":" + std::to_string(file.frame_time_line),
+                     "the frame rate ('Frame Time: " + format("%g", file.frame_time_s) + "')");
   }
+  check_clip_duration(file.num_frames / m.fps,
+                      options.source_fps ? std::string("--source-fps")
+                                         : file.name + ":" + std::to_string(file.frame_time_line),
+                      format("the clip (%d frames at %g Hz)", file.num_frames, m.fps));
 
   // Skeleton.
   SkeletonBinding binding;

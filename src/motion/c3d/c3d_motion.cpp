@@ -2,9 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string_view>
+#include <utility>
 
 #include "formats/c3d/c3d_reader.hpp"
 #include "retarget/core/error.hpp"
+#include "retarget/core/limits.hpp"
 #include "retarget/core/strings.hpp"
 #include "retarget/motion/c3d/landmark_gaps.hpp"
 #include "retarget/motion/c3d/marker_map.hpp"
@@ -15,6 +18,19 @@
 namespace rt {
 
 namespace {
+
+// POINT:UNITS is a fixed-width text and some writers cut it: 'mete' is "meters" (c3d.org FP1).
+// A prefix of at least three letters of a unit's full name stands for that unit.
+std::string untruncated_units(const std::string& units) {
+  const std::string u = to_lower(trim(units));
+  if (u.size() < 3) return units;
+  static const std::pair<const char*, const char*> kFull[] = {
+      {"meters", "m"}, {"metres", "m"}, {"millimeters", "mm"}, {"millimetres", "mm"},
+      {"centimeters", "cm"}, {"centimetres", "cm"}, {"inches", "inch"}};
+  for (const auto& [full, unit] : kFull)
+    if (std::string_view(full).substr(0, u.size()) == u && u.size() < std::string_view(full).size()) return unit;
+  return units;
+}
 
 // Landmarks whose absence at the start or end of a trial means the subject is not (fully) in view.
 const std::vector<Landmark>& core_landmarks() {
@@ -103,7 +119,13 @@ HumanMotion c3d_to_motion(const c3d::C3dFile& file, const MotionLoadOptions& opt
     src.units_overridden = true;
   } else if (!file.point_units.empty()) {
     try {
-      mpu = metres_per_unit(file.point_units);
+      const std::string units = untruncated_units(file.point_units);
+      if (units != file.point_units) {
+        const c3d::Parameter* u = file.find("POINT", "UNITS");
+        m.diagnostics.note(c3d::c3d_location(path, u ? u->offset : 0, "POINT:UNITS"),
+                           "'" + file.point_units + "' read as " + units + " (a truncated unit name)");
+      }
+      mpu = metres_per_unit(units);
     } catch (const InputError&) {
       const c3d::Parameter* u = file.find("POINT", "UNITS");
       m.diagnostics.warn(c3d::c3d_location(path, u ? u->offset : 0, "POINT:UNITS"),
@@ -119,14 +141,17 @@ HumanMotion c3d_to_motion(const c3d::C3dFile& file, const MotionLoadOptions& opt
   src.file_fps = file.point_rate;
   if (options.source_fps) {
     fps = *options.source_fps;
-    if (!std::isfinite(fps) || fps <= 0 || fps > 1e6) throw InputError(format("--source-fps %g is not a valid frame rate", fps));
+    check_frame_rate(fps, "--source-fps", "the source frame rate");
     if (file.point_rate > 0 && std::abs(fps - file.point_rate) > 1e-9)
       m.diagnostics.note(path, format("frame rate overridden: %g Hz (the file says %g Hz)", fps, file.point_rate));
   } else if (!(fps > 0)) {
     throw InputError(rate_location, "the file states no frame rate (POINT:RATE and header word 11 are 0); give --source-fps");
   }
+  if (!options.source_fps) check_frame_rate(fps, rate_location, "the point rate");
   src.file_frames = file.points.num_frames;
   if (file.points.num_frames == 0) throw InputError(c3d::c3d_location(path, file.data_offset), "the file holds no frames");
+  check_clip_duration(file.points.num_frames / fps, options.source_fps ? "--source-fps" : rate_location,
+                      format("the clip (%d frames at %g Hz)", file.points.num_frames, fps));
 
   // ---- markers and landmarks (file frame F) ----
   MarkerTrajectories markers = marker_trajectories(file, mpu);

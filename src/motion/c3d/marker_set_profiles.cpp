@@ -125,7 +125,7 @@ enum CentralRole { SACR, C7, T10, CLAV, STRN, HEAD, kCentralRoleCount };
 
 struct Aliases {
   const char* role;
-  std::array<const char*, 11> patterns;  // "{S}" is the side letter; unused slots are nullptr
+  std::array<const char*, 12> patterns;  // "{S}" is the side letter; unused slots are nullptr
 };
 
 // Alias tables: constant data (no mutable state). First match wins, so the most specific
@@ -145,9 +145,9 @@ constexpr Aliases kSideAliases[kSideRoleCount] = {
     {"HEE", {"{S}HEE", "{S}_FCC", "{S}FCC", "{S}CAL", "{S}_CAL", "{S}HEEL", "{S}_HEE"}},
     {"TOE", {"{S}TOE", "{S}_FM2", "{S}FM2", "{S}_TOE"}},
     {"MT1", {"{S}_FM1", "{S}FM1", "{S}MT1", "{S}MH1", "{S}MET1"}},
-    {"MT5", {"{S}_FM5", "{S}FM5", "{S}MT5", "{S}MH5", "{S}MET5", "{S}MT2"}},
+    {"MT5", {"{S}_FM5", "{S}FM5", "{S}MT5", "{S}MH5", "{S}MET5", "{S}MT2", "{S}MET"}},
     {"SHO", {"{S}SHO", "{S}_SAE", "{S}_SAJ", "{S}SAE", "{S}SAJ", "{S}CAJ", "{S}_CAJ", "{S}ACR", "{S}ACROM",
-             "{S}SHOULDER", "{S}_AC"}},
+             "{S}SHOULDER", "{S}_AC", "{S}SHOULD"}},
     {"SJC", {"{S}SJC", "{S}_SJC", "{S}SHOJC", "{S}GHJC"}},
     {"ELB", {"{S}ELB", "{S}_HLE", "{S}HLE", "{S}LEL", "{S}ELBL", "{S}LEPI", "{S}ELBOW"}},
     {"ELM", {"{S}_HME", "{S}HME", "{S}MEL", "{S}ELBM", "{S}MEPI", "{S}MELB"}},
@@ -161,7 +161,7 @@ constexpr Aliases kSideAliases[kSideRoleCount] = {
     {"BHD", {"{S}BHD", "{S}_HDB", "{S}HDB", "{S}PH", "{S}BH"}},
 };
 constexpr Aliases kCentralAliases[kCentralRoleCount] = {
-    {"SACR", {"SACR", "SACRUM", "SAC", "S1", "V_SACR"}},
+    {"SACR", {"SACR", "SACRUM", "SAC", "S1", "V_SACR", "VSAC"}},
     {"C7", {"C7", "CV7", "C7_"}},
     {"T10", {"T10", "TV10", "T8", "TV8", "T12", "TV12"}},
     {"CLAV", {"CLAV", "SJN", "SNJ", "IJ", "JN", "CLAVICLE"}},
@@ -868,7 +868,7 @@ class OptiTrackProfile {
 class ClusterProfile {
  public:
   explicit ClusterProfile(MarkerTrajectories& ms) : ms_(ms) {
-    pelvis_ = numbered(ms_, {"PV", "PEL", "PELVIS"});
+    pelvis_ = numbered(ms_, {"PV", "PEL", "PELVIS", "RPV", "LPV"});  // one rigid pelvis cluster, per side or not
     for (int s = 0; s < 2; ++s) {
       const std::string l(1, kSideLetter[s]);
       thigh_[s] = numbered(ms_, {l + "TH", l + "THI", l + "THIGH"});

@@ -7,9 +7,12 @@ namespace rt {
 std::string normalise_marker_name(std::string_view label) {
   const auto colon = label.rfind(':');
   if (colon != std::string_view::npos) label = label.substr(colon + 1);
-  std::string out(trim(label));
-  for (char& c : out)
-    if (c >= 'a' && c <= 'z') c = static_cast<char>(c - 'a' + 'A');
+  // Upper case without blanks: Elite/BTS systems write 'r asis' for RASIS.
+  std::string out;
+  for (char c : trim(label)) {
+    if (c == ' ') continue;
+    out.push_back(c >= 'a' && c <= 'z' ? static_cast<char>(c - 'a' + 'A') : c);
+  }
   return out;
 }
 

@@ -103,12 +103,16 @@ TEST(BatchCli, KillNineMidRunThenRerunFinishesOnlyWhatIsMissing) {
   // Its worker died with it (PR_SET_PDEATHSIG): nothing goes on writing into the folder.
   EXPECT_TRUE(wait_for([&] { return processes_mentioning(in) == 0; }, 5.0));
   EXPECT_FALSE(fs::exists(out + "/summary.json"));
-  const std::vector<std::string> done = files_with(out, ".meta.json");
+  // Done: the clips the batch recorded complete (a worker that wrote its meta.json but was not
+  // reaped yet is redone).
+  std::vector<std::string> done;  // markers, not a marker's temporary left by the kill
+  for (const std::string& f : files_with(out, ".complete"))
+    if (f.size() > 9 && f.compare(f.size() - 9, 9, ".complete") == 0) done.push_back(f);
   ASSERT_LT(done.size(), 6u) << "the batch finished before it was killed";
   // What a crash at the worst moment leaves: a data file without meta and stale temporaries.
   std::string victim;
   for (const char* name : {"stand0", "stand1", "stand2", "steps0", "steps1", "steps2"})
-    if (!fs::exists(out + "/" + name + ".meta.json")) victim = name;
+    if (!fs::exists(out + "/" + name + ".complete")) victim = name;
   ASSERT_FALSE(victim.empty());
   write_text(out + "/" + victim + ".csv", "0,0,0\n");
   write_text(out + "/" + victim + ".csv.tmp.4242.1", "half-written");
@@ -120,9 +124,9 @@ TEST(BatchCli, KillNineMidRunThenRerunFinishesOnlyWhatIsMissing) {
   ASSERT_EQ(s.clips.size(), 6u);
   EXPECT_EQ(s.count(ClipStatus::Skipped), static_cast<int>(done.size())) << second.output;
   EXPECT_EQ(s.count(ClipStatus::Ok), 6 - static_cast<int>(done.size())) << second.output;
-  for (const std::string& meta : done) {
-    const std::string name = fs::path(meta).filename().string();
-    EXPECT_EQ(test::find_clip(s, name.substr(0, name.size() - 10))->status, ClipStatus::Skipped) << name;
+  for (const std::string& marker : done) {
+    const std::string name = fs::path(marker).stem().string();
+    EXPECT_EQ(test::find_clip(s, name)->status, ClipStatus::Skipped) << name;
   }
   EXPECT_EQ(test::find_clip(s, victim)->status, ClipStatus::Ok);
   EXPECT_TRUE(files_with(out, ".tmp.").empty());
@@ -154,7 +158,7 @@ TEST(BatchCli, ThreeShardsMergedEqualASingleRun) {
   const CliRun single = retarget(args({"batch", in, "-o", dir + "/single", "-j", "2"}), dir + "/single.log");
   EXPECT_EQ(single.exit_code, 2) << single.output;  // the broken clip
 
-  // The three shards at once, into one folder (each holds its own lock).
+  // The three shards at once, into one folder (their clips are disjoint, so are their locks).
   std::vector<std::unique_ptr<WorkerProcess>> shards;
   for (int i = 1; i <= 3; ++i) {
     WorkerLaunch l;

@@ -5,6 +5,7 @@
 #include "batch_test_util.hpp"
 #include "retarget/batch/clip_discovery.hpp"
 #include "retarget/core/error.hpp"
+#include "support/text_mutation.hpp"
 
 namespace rt {
 namespace {
@@ -210,6 +211,25 @@ TEST(ClipDiscovery, ManifestPathsEscapingTheRootAreRejected) {
   EXPECT_EQ(discover_clips(dir + "/lib/m.yaml")[0].output_name, "in");
 }
 
+// Issue 18 item 9: a manifest's per-clip profile is under the same outside-root rule as its clips
+// (an absolute path to any readable file was opened and its first line echoed in the error).
+TEST(ClipDiscovery, ManifestProfilesEscapingTheRootAreRejected) {
+  const std::string dir = scratch_dir();
+  write_text(dir + "/secret.yaml", "name: secret\n");
+  write_text(dir + "/lib/in.bvh", "x");
+  write_text(dir + "/lib/own.yaml", "name: own\n");
+  for (const std::string& prof : {dir + "/secret.yaml", std::string("../secret.yaml")}) {
+    write_text(dir + "/lib/m.yaml", "clips:\n  - {path: in.bvh, profile: '" + prof + "'}\n");
+    const std::string e = error_of([&] { discover_clips(dir + "/lib/m.yaml"); });
+    EXPECT_NE(e.find("m.yaml:2"), std::string::npos) << prof << ": " << e;
+    EXPECT_NE(e.find("outside the manifest's folder"), std::string::npos) << prof << ": " << e;
+    EXPECT_EQ(discover_clips(dir + "/lib/m.yaml", {true}).size(), 1u) << prof;
+  }
+  write_text(dir + "/lib/m.yaml", "clips:\n  - {path: in.bvh, profile: own.yaml}\n");
+  EXPECT_EQ(*discover_clips(dir + "/lib/m.yaml")[0].overrides.profile,
+            (fs::absolute(dir) / "lib/own.yaml").lexically_normal().string());
+}
+
 TEST(ClipDiscovery, OutputNamesAreChecked) {
   for (const std::string& bad : {std::string(""), std::string("/abs"), std::string("a/../../b"), std::string("a//b"),
                                  std::string("a/"), std::string("./a"), std::string("a\\b"), std::string("a\tb"),
@@ -244,6 +264,22 @@ TEST(ClipDiscovery, ExampleManifestsAgree) {
     EXPECT_EQ(a[i].overrides.up_axis, b[i].overrides.up_axis);
   }
   EXPECT_EQ(names(a), (std::vector<std::string>{"stand", "foot_lift_slow", "slow_steps"}));
+}
+
+// Issue 18: seeded mutants of YAML and CSV manifests parse or raise one one-line InputError.
+TEST(ClipDiscovery, MutatedManifestsAreLocatedErrorsOrParse) {
+  const std::string dir = scratch_dir();
+  write_text(dir + "/a.bvh", "x");
+  write_text(dir + "/b.c3d", "x");
+  write_text(dir + "/p.yaml", "name: p\n");
+  const std::string yaml = "clips:\n  - a.bvh\n  - path: b.c3d\n    output: walks/b\n    time_scale: 1.5\n"
+                           "    source_fps: 60\n    up_axis: y\n    profile: p.yaml\n";
+  const std::string csv = "path,output,time_scale,source_units,source_fps,up_axis\na.bvh,a,1,cm,120,y\nb.c3d,,,,,\n";
+  int rejected = test::fuzz_text(yaml, ":{}[],- \n#'\"0123456789.", 181, 800, std::chrono::milliseconds(1500),
+                                 [&](const std::string& t) { parse_manifest(t, dir + "/m.yaml", false, {}); });
+  rejected += test::fuzz_text(csv, ",\n\"0123456789.", 182, 800, std::chrono::milliseconds(1500),
+                              [&](const std::string& t) { parse_manifest(t, dir + "/m.csv", true, {}); });
+  EXPECT_GT(rejected, 0);
 }
 
 }  // namespace

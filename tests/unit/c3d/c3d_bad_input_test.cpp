@@ -11,6 +11,7 @@
 
 #include "c3d_test_writer.hpp"
 #include "formats/c3d/c3d_reader.hpp"
+#include "retarget/core/diagnostics.hpp"
 #include "retarget/core/error.hpp"
 #include "retarget/core/file_io.hpp"
 #include "support/test_paths.hpp"
@@ -88,9 +89,19 @@ TEST(C3dBadInput, TruncatedAtEveryPoint) {
     const test::C3dBytes b = test::write_c3d(base_spec(float_storage));
     const c3d::C3dFile whole = c3d::parse_c3d(b.bytes, "whole.c3d");
     const std::size_t data_end = whole.data_offset + whole.frame_bytes * 12;
-    for (std::size_t n = 0; n < data_end; ++n) {
+    // Up to the first complete frame: an error. Beyond: the complete frames, with a warning
+    // (issue 18 item 13, as ezc3d reads them).
+    for (std::size_t n = 0; n < whole.data_offset + whole.frame_bytes; ++n) {
       SCOPED_TRACE(n);
       expect_location(error_of(b.bytes.substr(0, n)));
+    }
+    for (std::size_t n = whole.data_offset + whole.frame_bytes; n < data_end; ++n) {
+      SCOPED_TRACE(n);
+      Diagnostics d;
+      const c3d::C3dFile cut = c3d::parse_c3d(b.bytes.substr(0, n), "cut.c3d", &d);
+      EXPECT_EQ(cut.points.num_frames, static_cast<int>((n - whole.data_offset) / whole.frame_bytes));
+      ASSERT_EQ(d.warning_count(), 1u);
+      EXPECT_NE(d.items()[0].to_string().find("data section truncated"), std::string::npos);
     }
     // Cutting only the block padding after the last frame is harmless.
     EXPECT_NO_THROW(c3d::parse_c3d(b.bytes.substr(0, data_end), "exact.c3d"));
@@ -100,10 +111,16 @@ TEST(C3dBadInput, TruncatedAtEveryPoint) {
 TEST(C3dBadInput, RealFilesTruncated) {
   RT_REQUIRE_SHARED(path, "c3d/btk_PiG_Motion-FlatFoot-One_vicon_fullbody.c3d");
   const std::string bytes = read_file(path);
+  const c3d::C3dFile whole = c3d::parse_c3d(bytes, "pig.c3d");
   for (int k = 0; k < 64; ++k) {
     const std::size_t n = bytes.size() * static_cast<std::size_t>(k) / 64 + static_cast<std::size_t>(k);
     SCOPED_TRACE(n);
-    expect_location(error_of(bytes.substr(0, n), "pig_cut.c3d"));
+    if (n < whole.data_offset + whole.frame_bytes) {
+      expect_location(error_of(bytes.substr(0, n), "pig_cut.c3d"));
+    } else {  // the complete frames
+      EXPECT_EQ(c3d::parse_c3d(bytes.substr(0, n), "pig_cut.c3d").points.num_frames,
+                static_cast<int>((n - whole.data_offset) / whole.frame_bytes));
+    }
   }
 }
 
@@ -215,10 +232,19 @@ TEST(C3dBadInput, AbsurdCounts) {
     expect_location(m);
     EXPECT_NE(m.find("data section truncated"), std::string::npos) << m;
   }
-  {  // 65535 header frames
+  // A frame count beyond the data section: its 12 complete frames are read, with a warning
+  // (issue 18 item 13; nothing is sized from the claimed count).
+  auto expect_complete_frames = [](const std::string& bytes) {
+    Diagnostics d;
+    const c3d::C3dFile f = c3d::parse_c3d(bytes, "claims.c3d", &d);
+    EXPECT_EQ(f.points.num_frames, 12);
+    EXPECT_EQ(f.points.xyz.size(), 12u * 3 * 3);
+    EXPECT_EQ(d.warning_count(), 1u);
+  };
+  {  // 65000 header frames
     test::C3dSpec s = base_spec();
     s.header_frames_override = 65000;
-    expect_location(error_of(test::write_c3d(s).bytes));
+    expect_complete_frames(test::write_c3d(s).bytes);
   }
   {  // 32-bit frame count of 2^31 - 1 via TRIAL
     test::C3dSpec s = base_spec();
@@ -228,8 +254,7 @@ TEST(C3dBadInput, AbsurdCounts) {
     const std::size_t at = b.link_offset.at("TRIAL:ACTUAL_END_FIELD") + 2 + 3;
     w.set_i16(b.bytes, at, -1);
     w.set_i16(b.bytes, at + 2, 0x7fff);
-    const std::string m = error_of(b.bytes);
-    expect_location(m);
+    expect_complete_frames(b.bytes);
   }
   {  // 65535 analog channels at a huge rate
     test::C3dBytes b = test::write_c3d(base_spec());
@@ -249,6 +274,81 @@ TEST(C3dBadInput, AbsurdCounts) {
     const std::string m = error_of(b.bytes);
     expect_location(m, "POINT:DATA_START");
   }
+}
+
+// Issue 18 item 4: a count stored as a float (NaN, -1, 1e10, 1e8 with no frames) is a located
+// error at the parameter, never an undefined conversion or a huge label table.
+TEST(C3dBadInput, CountsStoredAsFloats) {
+  for (const double bad : {std::numeric_limits<double>::quiet_NaN(), -1.0, 1e10, 2.5}) {
+    test::C3dSpec s = base_spec();
+    s.point_used_float = true;
+    test::C3dBytes b = test::write_c3d(s);
+    set_number(b, "POINT:USED", bad, c3d::DataType::Float);
+    const std::string m = error_of(b.bytes);
+    expect_location(m, "POINT:USED");
+    EXPECT_NE(m.find("is not a count"), std::string::npos) << m;
+  }
+  {  // 1e8 points and no frames: nothing in the data section bounds the count
+    test::C3dSpec s = base_spec();
+    s.samples.clear();
+    s.point_used_float = true;
+    test::C3dBytes b = test::write_c3d(s);
+    set_number(b, "POINT:USED", 1e8, c3d::DataType::Float);
+    expect_location(error_of(b.bytes), "POINT:USED");
+  }
+  {  // a whole-number float count is read as the count
+    test::C3dSpec s = base_spec();
+    s.point_used_float = true;
+    const c3d::C3dFile f = c3d::parse_c3d(test::write_c3d(s).bytes, "float_used.c3d");
+    EXPECT_EQ(f.points.num_points, 3);
+  }
+  {  // ANALOG:USED and EVENT:USED too
+    test::C3dBytes b = test::write_c3d(base_spec());
+    set_number(b, "EVENT:USED", -3, c3d::DataType::Int16);  // 65533 as unsigned: a count, clipped to the times
+    EXPECT_NO_THROW(c3d::parse_c3d(b.bytes, "events.c3d"));
+  }
+}
+
+// Issue 18 item 4: the header scale and POINT:SCALE disagree in sign (float vs int16 storage);
+// the data section's size decides, with a warning, and the values come out right either way.
+TEST(C3dBadInput, StorageSignDisagreement) {
+  for (const bool float_storage : {true, false}) {
+    const test::C3dSpec s = base_spec(float_storage);
+    const c3d::C3dFile good = c3d::parse_c3d(test::write_c3d(s).bytes, "good.c3d");
+    test::C3dBytes b = test::write_c3d(s);
+    // Flip POINT:SCALE's sign only (the header word 7 keeps the true storage).
+    set_number(b, "POINT:SCALE", float_storage ? 0.1 : -0.1, c3d::DataType::Float);
+    Diagnostics d;
+    const c3d::C3dFile f = c3d::parse_c3d(b.bytes, "flipped.c3d", &d);
+    EXPECT_EQ(f.float_storage, float_storage);
+    EXPECT_GE(d.warning_count(), 1u);
+    ASSERT_EQ(f.points.xyz.size(), good.points.xyz.size());
+    for (std::size_t i = 0; i < f.points.xyz.size(); ++i) EXPECT_NEAR(f.points.xyz[i], good.points.xyz[i], 1e-3) << i;
+  }
+}
+
+// Issue 18 item 13: integer data whose header scale and POINT:SCALE disagree (c3d.org MACsample
+// came out 0.39x too small): the scale giving a body's extent wins, with a warning; when neither
+// or both do, a located error rather than a silent conversion at the wrong scale.
+TEST(C3dBadInput, IntegerScaleDisagreementPicksTheBodySizedOne) {
+  test::C3dSpec s = base_spec(false);
+  s.analog_channels = 0;
+  s.samples.clear();
+  for (int f = 0; f < 10; ++f)  // ankle, head, hand: 1.5 m tall at scale 0.1 (counts up to 16000)
+    s.samples.push_back({{{0, 0, 100.0f + f, 1}}, {{0, 0, 1600, 1}}, {{300, 0, 900, 1}}});
+  const c3d::C3dFile good = c3d::parse_c3d(test::write_c3d(s).bytes, "good.c3d");
+  test::C3dBytes b = test::write_c3d(s);
+  set_number(b, "POINT:SCALE", 0.01, c3d::DataType::Float);  // 0.15 m across: not a body
+  Diagnostics d;
+  const c3d::C3dFile f = c3d::parse_c3d(b.bytes, "mac.c3d", &d);
+  EXPECT_NEAR(f.point_scale, 0.1, 1e-7);
+  EXPECT_GE(d.warning_count(), 1u);
+  ASSERT_EQ(f.points.xyz.size(), good.points.xyz.size());
+  for (std::size_t i = 0; i < f.points.xyz.size(); ++i) EXPECT_NEAR(f.points.xyz[i], good.points.xyz[i], 1e-3) << i;
+  set_number(b, "POINT:SCALE", 0.12, c3d::DataType::Float);  // 1.8 m: both plausible
+  const std::string m = error_of(b.bytes);
+  expect_location(m, "POINT:SCALE");
+  EXPECT_NE(m.find("ambiguous"), std::string::npos) << m;
 }
 
 TEST(C3dBadInput, BadNumbers) {

@@ -10,6 +10,7 @@
 #include "formats/c3d/c3d_reader.hpp"
 #include "retarget/core/error.hpp"
 #include "retarget/motion/c3d/c3d_motion.hpp"
+#include "retarget/motion/c3d/marker_trajectories.hpp"
 #include "support/test_paths.hpp"
 #include "synthetic_walker.hpp"
 
@@ -356,6 +357,57 @@ TEST(C3dMotion, UnitsRateAndUpAxisOverrides) {
   const HumanMotion z = from_spec(spec, forced);
   EXPECT_TRUE(z.source.up_axis_overridden);
   EXPECT_LT(z[Landmark::Head].p_W(2, 0), 0.5);
+}
+
+// Issue 18 item 3: a rate or a duration beyond the limits (core/limits.hpp) is a located error
+// before anything is sized from it (POINT:RATE 0.001 made a 3600-frame walker last an hour+).
+TEST(C3dMotion, RateAndDurationBounds) {
+  const test::Walker w;
+  for (const double rate : {0.001, 1e-30, 2e4}) {
+    test::C3dSpec spec = w.spec();
+    spec.rate = rate;
+    try {
+      from_spec(spec);
+      ADD_FAILURE() << "no error for POINT:RATE " << rate;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("[POINT:RATE]"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("not between 1 and 10000 Hz"), std::string::npos) << e.what();
+    }
+  }
+  MotionLoadOptions o = raw_options();
+  for (const double fps : {1e-6, 0.5, 1e6}) {
+    o.source_fps = fps;
+    EXPECT_THROW(from_spec(w.spec(), o), InputError) << fps;
+  }
+  // 300 frames at 1 Hz is 5 minutes: fine; the limit is the duration, not the rate alone.
+  o.source_fps = 1;
+  EXPECT_NO_THROW(from_spec(w.spec(), o));
+}
+
+// Issue 18 item 13: a sacrum marker named VSAC (BTK others/Gait.c3d), and units cut to 'mete'.
+TEST(C3dMotion, BtkCorpusMarkerNamesAndUnits) {
+  {
+    RT_REQUIRE_SHARED(path, "c3d/btkdata/others_Gait_VSAC.c3d");
+    const HumanMotion m = load_c3d_motion(path, MotionLoadOptions{});
+    EXPECT_TRUE(m.has(Landmark::Pelvis));
+  }
+  {  // Elite/BTS names with spaces ('r asis', 'r met'): a lower body, not an unknown marker set
+    RT_REQUIRE_SHARED(path, "c3d/btkdata/c3dorg_sample28_dynamic_elite.c3d");
+    const HumanMotion m = load_c3d_motion(path, MotionLoadOptions{});
+    EXPECT_TRUE(m.has(Landmark::Pelvis));
+    EXPECT_TRUE(m.has(Landmark::LeftKnee));
+    EXPECT_TRUE(m.has(Landmark::RightToe));  // from 'r met'
+  }
+  EXPECT_EQ(normalise_marker_name("Subject:r asis "), "RASIS");
+  // c3d.org FP1/FP2 store 'mete' (truncated "meters"): metres, with a note, not millimetres.
+  const test::Walker w;
+  test::C3dSpec spec = w.spec();
+  spec.units = "mete";
+  for (auto& row : spec.samples)
+    for (auto& smp : row) smp = {smp[0] / 1000, smp[1] / 1000, smp[2] / 1000, smp[3]};
+  const HumanMotion m = from_spec(spec);
+  EXPECT_EQ(m.source.units, "m");
+  EXPECT_NE(all_diagnostics(m).find("'mete' read as m"), std::string::npos) << all_diagnostics(m);
 }
 
 TEST(C3dMotion, SubjectNeverFullyInView) {

@@ -8,6 +8,7 @@
 
 #include "c3d_test_writer.hpp"
 #include "formats/c3d/c3d_reader.hpp"
+#include "retarget/core/diagnostics.hpp"
 #include "retarget/core/error.hpp"
 #include "retarget/core/strings.hpp"
 #include "support/test_paths.hpp"
@@ -301,6 +302,57 @@ TEST(C3dReader, ModelOutputKindsFromTypeGroups) {
 TEST(C3dReader, LocationFormat) {
   EXPECT_EQ(c3d::c3d_location("walk.c3d", 0x48d, "POINT:LABELS"), "walk.c3d@0x048d [POINT:LABELS]");
   EXPECT_EQ(c3d::c3d_location("walk.c3d", 0x12345), "walk.c3d@0x12345");
+}
+
+// Issue 18 item 13: files of BTK's corpus that BTK reads (README of ../shared/data: c3d/btkdata),
+// with the values BTK's reader test asserts.
+TEST(C3dReader, BtkCorpusParameterSectionsAndEvents) {
+  {  // the parameter header declares 3 blocks; the parameters run on to the data start (block 8)
+    RT_REQUIRE_SHARED(path, "c3d/btkdata/c3dorg_sample13_golfswing.c3d");
+    Diagnostics d;
+    const c3d::C3dFile f = c3d::read_c3d(path, &d);
+    EXPECT_NEAR(f.point_rate, 107.53, 0.01);
+    EXPECT_EQ(f.points.num_points, 29);
+    EXPECT_EQ(f.points.num_frames, 514);
+    EXPECT_GE(d.warning_count(), 1u);  // says the section ran past its declared end
+  }
+  {  // same trap; POINT:UNITS 'mete' (read as metres by the motion layer)
+    RT_REQUIRE_SHARED(path, "c3d/btkdata/c3dorg_sample15_FP1.c3d");
+    const c3d::C3dFile f = c3d::read_c3d(path);
+    EXPECT_EQ(f.point_units, "mete");
+    EXPECT_GT(f.points.num_frames, 0);
+  }
+  {  // parameters past the declared 46 blocks up to the data start (51): ANALYSIS:VALUES is read
+    RT_REQUIRE_SHARED(path, "c3d/btkdata/others_parameterOverflow.c3d");
+    const c3d::C3dFile f = c3d::read_c3d(path);
+    const c3d::Parameter* v = f.find("ANALYSIS", "VALUES");
+    ASSERT_NE(v, nullptr);
+    EXPECT_FALSE(v->numbers.empty());
+  }
+  {  // an unused ANALOG:UNITS whose data overrun its record: kept empty, the rest is read
+    RT_REQUIRE_SHARED(path, "c3d/btkdata/others_badParameterOffset.c3d");
+    Diagnostics d;
+    const c3d::C3dFile f = c3d::read_c3d(path, &d);
+    EXPECT_EQ(f.points.num_points, 41);
+    EXPECT_EQ(f.first_frame, 1);
+    EXPECT_EQ(f.points.num_frames, 111);
+    EXPECT_DOUBLE_EQ(f.point_rate, 250);
+    EXPECT_GE(d.warning_count(), 1u);
+  }
+  {  // integer data, header scale and POINT:SCALE disagree: the header's gives a body's size
+    RT_REQUIRE_SHARED(path, "c3d/btkdata/c3dorg_sample06_MACsample.c3d");
+    Diagnostics d;
+    const c3d::C3dFile f = c3d::read_c3d(path, &d);
+    EXPECT_NEAR(f.point_scale, f.header.scale, 1e-7);
+    EXPECT_GE(d.warning_count(), 1u);
+  }
+  {  // events in an EVENTS (plural) group
+    RT_REQUIRE_SHARED(path, "c3d/btkdata/c3dorg_sample22_BKINtechnologies.c3d");
+    const c3d::C3dFile f = c3d::read_c3d(path);
+    ASSERT_EQ(f.events.size(), 2u);
+    EXPECT_EQ(f.events[0].label, "STAY_CENTRE");
+    EXPECT_EQ(f.events[1].label, "TARGET_ON");
+  }
 }
 
 }  // namespace

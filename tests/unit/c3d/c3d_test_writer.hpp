@@ -42,6 +42,7 @@ struct C3dSpec {
   bool data_start_param_zero = false;  ///< POINT:DATA_START = 0 (header word 9 still right)
   bool trial_fields = false;         ///< write TRIAL:ACTUAL_START_FIELD / ACTUAL_END_FIELD
   int header_frames_override = -1;   ///< unless -1: frames claimed by the header (last = first + n - 1)
+  bool point_used_float = false;     ///< store POINT:USED as a float (some writers do)
   std::vector<std::pair<std::string, double>> events;  ///< EVENT group (label, seconds)
   std::vector<C3dParam> extra;
 };
@@ -137,7 +138,7 @@ inline C3dBytes write_c3d(const C3dSpec& spec) {
   };
   const int data_start_block_placeholder = 0;  // patched below
   if (spec.write_parameters) {
-    add(scalar("POINT", "USED", c3d::DataType::Int16, points));
+    add(scalar("POINT", "USED", spec.point_used_float ? c3d::DataType::Float : c3d::DataType::Int16, points));
     add(scalar("POINT", "SCALE", c3d::DataType::Float, scale));
     add(scalar("POINT", "RATE", c3d::DataType::Float, spec.rate));
     add(scalar("POINT", "DATA_START", c3d::DataType::Int16, data_start_block_placeholder));

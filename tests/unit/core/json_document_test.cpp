@@ -46,6 +46,16 @@ TEST(JsonDocument, RejectsNonObjectsUnrepresentableNumbersAndDeepNesting) {
   EXPECT_EQ(error_of("{\"a\": [[[1]]]}", 3), "d.json: JSON nests deeper than 3 levels");
 }
 
+// Issue 18: nlohmann keeps the last of two equal keys silently; a second "fps" must not override
+// the first unseen. The error names the key's path.
+TEST(JsonDocument, RejectsDuplicateKeysByPath) {
+  EXPECT_EQ(error_of("{\"fps\": 30, \"fps\": 0.001}"), "d.json: fps: duplicate key");
+  EXPECT_EQ(error_of("{\"a\": {\"b\": 1, \"c\": {\"d\": 1, \"d\": 2}}}"), "d.json: a.c.d: duplicate key");
+  // The same key in sibling objects, in array elements and at other levels is fine.
+  EXPECT_EQ(error_of("{\"a\": {\"x\": 1}, \"b\": {\"x\": 1}, \"x\": [{\"x\": 1}, {\"x\": 2}]}"), "");
+  EXPECT_EQ(error_of("{\"l\": [{\"k\": 1, \"k\": 2}]}"), "d.json: l.k: duplicate key");
+}
+
 TEST(JsonDocument, DepthCountsContainersAndStopsAtTheLimit) {
   const auto j = nlohmann::ordered_json::parse("{\"a\": [1, {\"b\": []}]}");
   EXPECT_EQ(json_depth(j, 10), 4);

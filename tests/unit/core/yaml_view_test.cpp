@@ -15,6 +15,20 @@ TEST(YamlView, ReportsUnknownKeyWithPathAndLine) {
   }
 }
 
+// Issue 18 item 12: yaml-cpp keeps both of two equal keys and lookups see the first one.
+TEST(YamlView, DuplicateKeysAreRejectedAtTheSecondOne) {
+  try {
+    YamlView::load_string("name: x\nfeet:\n  left: a\n  right: b\n  left: c\n", "robot.yaml");
+    FAIL() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "robot.yaml:5: feet.left: duplicate key");
+  }
+  EXPECT_THROW(YamlView::load_string("a: 1\na: 2\n", "m.yaml"), InputError);
+  EXPECT_THROW(YamlView::load_string("clips:\n  - {path: a.bvh, output: x, output: y}\n", "m.yaml"), InputError);
+  // Equal keys in different maps are fine.
+  EXPECT_NO_THROW(YamlView::load_string("a: {x: 1}\nb: {x: 2}\nc: [{x: 1}, {x: 2}]\n", "ok.yaml"));
+}
+
 TEST(YamlView, ReportsTypeErrors) {
   const auto doc = YamlView::load_string("a: [1, 2, x]\nb: yes_no\n", "c.yaml");
   EXPECT_THROW(doc.at("a").as_doubles(), InputError);

@@ -2,8 +2,13 @@
 // triangles, mirrored scales keep outward normals, binary STL output MuJoCo reads, simplification.
 
 #include <gtest/gtest.h>
+
+#include <sys/stat.h>
+
 #include <mujoco/mujoco.h>
 
+#include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 
@@ -129,6 +134,43 @@ TEST(Mesh, UnreadableFilesAreInputErrors) {
   } catch (const InputError& e) {
     EXPECT_EQ(e.location(), path);
   }
+}
+
+// Issue 18 item 11: meshes have a size cap (a 2 GB sparse STL was read whole) and a FIFO is refused.
+TEST(Mesh, OversizedAndNonRegularFilesAreRefusedUnread) {
+  const std::string dir = test::scratch_dir();
+  const std::string sparse = dir + "/huge.stl";
+  {
+    std::FILE* f = std::fopen(sparse.c_str(), "wb");
+    ASSERT_NE(f, nullptr);
+    ASSERT_EQ(std::fseek(f, (3ll << 30) - 1, SEEK_SET), 0);  // 3 GB, sparse: nothing written
+    std::fputc(0, f);
+    std::fclose(f);
+  }
+  try {
+    load_mesh(sparse);
+    FAIL() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("larger than the limit of 128 MB"), std::string::npos) << e.what();
+  }
+  MeshLoadOptions small;
+  small.max_file_bytes = 100;
+  EXPECT_THROW(load_mesh(mesh_file("torso.stl"), small), InputError);
+  // An OBJ face of 2000 corners (assimp's triangulation is quadratic in them): refused at its line.
+  std::string obj = "# a polygon\n";
+  for (int i = 0; i < 2000; ++i) obj += "v " + std::to_string(std::cos(i * 0.00314)) + " " + std::to_string(std::sin(i * 0.00314)) + " 0\n";
+  obj += "f";
+  for (int i = 1; i <= 2000; ++i) obj += " " + std::to_string(i);
+  write_file_atomic(dir + "/polygon.obj", obj + "\n");
+  try {
+    load_mesh(dir + "/polygon.obj");
+    FAIL() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), dir + "/polygon.obj:2002: a face with 2000 corners (at most 1000): not a robot mesh");
+  }
+  const std::string fifo = dir + "/pipe.stl";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0644), 0);
+  EXPECT_THROW(load_mesh(fifo), InputError);
 }
 
 TEST(Mesh, RealColladaMeshesLoad) {

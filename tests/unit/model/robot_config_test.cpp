@@ -10,6 +10,7 @@
 #include "retarget/model/robot_config.hpp"
 #include "retarget/model/robot_model.hpp"
 #include "support/test_paths.hpp"
+#include "support/text_mutation.hpp"
 
 namespace rt {
 namespace {
@@ -98,6 +99,9 @@ TEST(RobotConfig, SchemaErrorsNameFileLineAndKeyPath) {
   expect_config_error(base + "landmarks:\n  left_knee: {link: left_shank, orientation_weight: 1}\n", 8,
                       "landmarks.left_knee.orientation_weight: landmark 'left_knee' carries no orientation (only "
                       "pelvis, chest, left_ankle and right_ankle do)");
+  // Issue 18 item 12: offsets of 1e300 m ran the check.
+  expect_config_error(base + "landmarks:\n  pelvis: {link: pelvis, offset: [0, 1e300, 0]}\n", 8,
+                      "landmarks.pelvis.offset: 1e+300 m is not between -100 and 100 m");
   expect_config_error(base + "landmarks:\n  pelvis: {link: pelvis, weight: -1}\n", 8,
                       "landmarks.pelvis.weight: weight must be in [0, 1e+06], got -1");
   expect_config_error(base + "landmarks:\n  pelvis: {link: pelvis, offset: [0, 0]}\n", 8,
@@ -199,6 +203,16 @@ TEST(RobotConfig, ProjectRobotConfigsParse) {
     EXPECT_FALSE(c.export_joints.empty());
     EXPECT_FALSE(c.standing_joints.empty());
   }
+}
+
+// Issue 18: seeded mutants of a robot.yaml parse or raise one one-line InputError.
+TEST(RobotConfig, MutatedConfigsAreLocatedErrorsOrParse) {
+  const std::string seed = std::string(kBase) +
+                           "landmarks:\n  pelvis: {link: pelvis, offset: [0, 0, -0.1], weight: 1.0}\n"
+                           "  left_knee: left_shank\nstanding_pose: {joints: {}}\ncontroller: {kp: 36, kd: 12}\n";
+  const int rejected = test::fuzz_text(seed, ":{}[],- \n#'\"0123456789e.", 18, 1500, std::chrono::milliseconds(2000),
+                                       [](const std::string& text) { parse_robot_config(text, fake_path()); });
+  EXPECT_GT(rejected, 0);
 }
 
 }  // namespace

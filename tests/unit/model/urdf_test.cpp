@@ -133,16 +133,59 @@ TEST(UrdfBroken, HostileInputsFailFastWithoutCrashing) {
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()), "deep.urdf: XML elements nested more than 200 deep: not a URDF");
   }
-  // A long chain (5000 links) is checked in linear time.
-  std::string chain = "<robot name='chain'><link name='l0'/>";
-  for (int i = 1; i < 5000; ++i)
-    chain += "<link name='l" + std::to_string(i) + "'/><joint name='j" + std::to_string(i) +
-             "' type='continuous'><parent link='l" + std::to_string(i - 1) + "'/><child link='l" + std::to_string(i) +
-             "'/><axis xyz='0 0 1'/></joint>";
-  chain += "</robot>";
-  const UrdfRobot r = read_urdf_string(chain, "chain.urdf", ".");
-  EXPECT_EQ(r.links.size(), 5000u);
-  EXPECT_EQ(r.joints[4998].type, UrdfJointType::Continuous);
+  // A chain of n links, one joint per line after the first.
+  auto chain = [](int n) {
+    std::string c = "<robot name='chain'><link name='l0'/>";
+    for (int i = 1; i < n; ++i)
+      c += "\n<link name='l" + std::to_string(i) + "'/><joint name='j" + std::to_string(i) +
+           "' type='continuous'><parent link='l" + std::to_string(i - 1) + "'/><child link='l" + std::to_string(i) +
+           "'/><axis xyz='0 0 1'/></joint>";
+    return c + "</robot>";
+  };
+  const UrdfRobot r = read_urdf_string(chain(100), "chain.urdf", ".");
+  EXPECT_EQ(r.links.size(), 100u);
+  EXPECT_EQ(r.joints[98].type, UrdfJointType::Continuous);
+  // Issue 18 item 5: a 20,000-link chain overflowed the MJCF writer's stack; the depth is checked
+  // first (in linear time), at the joint of the first link too deep, and the number of links.
+  try {
+    read_urdf_string(chain(500), "chain.urdf", ".");
+    FAIL() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "chain.urdf:101: the kinematic tree is more than 100 links deep at link 'l100' "
+                                     "(joint 'j100'); a robot is about 10 deep");
+  }
+  try {
+    read_urdf_string(chain(20000), "chain.urdf", ".");
+    FAIL() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "chain.urdf:1001: more than 1000 links: not a robot this tool can simulate");
+  }
+  // Issue 18 items 11, 12: 200,000 attributes on one element (quadratic in tinyxml), geometry of
+  // 1e300 and a UTF-16 file.
+  std::string wide = "<robot name='x'><link name='l0'";
+  for (int i = 0; i < 200000; ++i) wide += " a" + std::to_string(i) + "='1'";
+  wide += "/></robot>";
+  try {
+    read_urdf_string(wide, "wide.urdf", ".");
+    FAIL() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "wide.urdf: an XML element has more than 1000 attributes: not a URDF");
+  }
+  std::string far = chain(3);
+  far.replace(far.find("<axis"), 0, "<origin xyz='1e300 0 0'/>");
+  try {
+    read_urdf_string(far, "far.urdf", ".");
+    FAIL() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("1e+300 is not between -1000 and 1000"), std::string::npos) << e.what();
+  }
+  const std::string utf16("\xff\xfe<\0r\0o\0", 8);
+  try {
+    read_urdf_string(utf16, "wide16.urdf", ".");
+    FAIL() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("UTF-16"), std::string::npos) << e.what();
+  }
 }
 
 TEST(UrdfCapture, NothingIsPrintedAndTheHandlerIsRestored) {

@@ -191,7 +191,7 @@ TEST(ReferenceNpz, BadContentIsOneLineErrorWithLocation) {
   std::vector<double> q = good.find("joint_pos")->to_doubles();
   test::expect_input_error(with("fps", nullptr), {"bad.npz [fps.npy]", "missing required array 'fps'"});
   const Array zero_fps = Array::from_doubles({1}, {0.0});
-  test::expect_input_error(with("fps", &zero_fps), {"bad.npz@0x", "[fps.npy]", "not in (0"});
+  test::expect_input_error(with("fps", &zero_fps), {"bad.npz@0x", "[fps.npy]", "not between 1 and 10000 Hz"});
   test::expect_input_error(with("joint_pos", nullptr), {"missing required array 'joint_pos'"});
   const Array flat = Array::from_doubles({q.size()}, q);
   test::expect_input_error(with("joint_pos", &flat), {"[joint_pos.npy]", "expected shape (T, J)"});
