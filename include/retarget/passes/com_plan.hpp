@@ -39,7 +39,7 @@ struct ComPlanPassOptions {
   double swing_smoothing_s = 0.06;
   double com_weight = 1e6;             ///< COM-following IK: weight of the COM target [1/m²]
   double foot_weight = 1e8;            ///< ... weight holding each sole's pose (>> com_weight: feet win)
-  double landmark_factor = 0.1;        ///< ... factor on the robot.yaml weights of the non-foot landmarks
+  double landmark_factor = 1.0;        ///< ... factor on the robot.yaml weights of the non-foot landmarks
   /// ... pull towards the low-passed configuration: 1 (rather than 1e-2) keeps the body's null-space
   /// motion from adding angular momentum (ZMP within 1 cm on 62 % instead of 45 % of OpenSim's gait)
   double posture_regularization = 1.0;
