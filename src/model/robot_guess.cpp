@@ -138,10 +138,15 @@ class Tree {
   int root_ = -1;
 };
 
-// Points of a link's collision geometry (else visual) in R, for a link pose X_R_L.
+// Points of a link's collision geometry (else visual) in R, for a link pose X_R_L. Collision
+// spheres alone are contact points, not the link's shape: then the visual geometry (as RobotModel
+// does for derived soles).
 std::vector<Vec3> geometry_points(const UrdfLink& link, const Iso3& X_R_L) {
   std::vector<Vec3> out;
-  const auto& geometry = link.collisions.empty() ? link.visuals : link.collisions;
+  const bool contact_points = !link.collisions.empty() && !link.visuals.empty() &&
+                              std::all_of(link.collisions.begin(), link.collisions.end(),
+                                          [](const UrdfGeometry& g) { return g.kind == UrdfGeometry::Kind::Sphere; });
+  const auto& geometry = link.collisions.empty() || contact_points ? link.visuals : link.collisions;
   for (const UrdfGeometry& g : geometry) {
     const Iso3 X = X_R_L * g.X_L_G;
     switch (g.kind) {

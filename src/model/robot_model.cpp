@@ -504,7 +504,12 @@ void RobotModelBuilder::resolve_soles() {
     // The lowest flat face of the foot's collision geometry (else its visual geometry) in the
     // standing pose, measured with world axes: the link's own axes need not point up or forward.
     const Link& link = m_->links_[static_cast<std::size_t>(sole.link)];
-    const std::vector<Geometry>& geometry = link.collisions.empty() ? link.visuals : link.collisions;
+    // Collision geometry made of spheres only is a set of contact points (G1: four 5 mm spheres
+    // inside the sole's outline), not the foot's shape: then the visual geometry has the sole.
+    const bool contact_points = !link.collisions.empty() && !link.visuals.empty() &&
+                                std::all_of(link.collisions.begin(), link.collisions.end(),
+                                            [](const Geometry& g) { return g.kind == Geometry::Kind::Sphere; });
+    const std::vector<Geometry>& geometry = link.collisions.empty() || contact_points ? link.visuals : link.collisions;
     if (geometry.empty())
       config_error(key + ".sole", "cannot derive the sole: link '" + f.link +
                                       "' has no collision or visual geometry (give {center: [x, y, z], size: [length, width]})");

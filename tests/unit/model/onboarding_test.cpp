@@ -123,6 +123,25 @@ TEST(OddBiped, UnlistedStandingJointOutsideItsRangeStandsInside) {
   EXPECT_TRUE(r->soles()[0].size_m.isApprox(Vec2(0.20, 0.08), 1e-6)) << r->soles()[0].size_m.transpose();
 }
 
+TEST(OddBiped, CollisionSpheresAreContactPointsTheSoleComesFromTheVisualMesh) {
+  // Feet whose collision geometry is two small spheres (as G1's four 5 mm contact spheres): the
+  // derived sole is the visual mesh's bottom face, not the rectangle between the spheres.
+  std::string urdf = read_file(test::source_path("tests/data/urdf/odd_biped/odd_biped.urdf"), 1 << 20);
+  const std::string from = "<collision>\n      <geometry><mesh filename=\"package:///odd_biped/meshes/foot_y_up.dae\"/></geometry>\n    </collision>";
+  const std::string to = "<collision><origin xyz=\"0 0 0.045\"/><geometry><sphere radius=\"0.005\"/></geometry></collision>\n"
+                         "    <collision><origin xyz=\"0.1 0 0.045\"/><geometry><sphere radius=\"0.005\"/></geometry></collision>";
+  int replaced = 0;
+  for (std::size_t at = urdf.find(from); at != std::string::npos; at = urdf.find(from, at + to.size()), ++replaced)
+    urdf.replace(at, from.size(), to);
+  ASSERT_EQ(replaced, 2);
+  const std::string dir = test::scratch_dir();
+  write_file_atomic(dir + "/odd_biped.urdf", urdf);
+  std::string yaml = read_file(odd_yaml(), 1 << 20);
+  yaml.replace(yaml.find("package_paths: [..]"), 19, "package_paths: [" + test::source_path("tests/data/urdf") + "]");
+  const auto r = RobotModel::load(parse_robot_config(yaml, dir + "/robot.yaml"));
+  EXPECT_TRUE(r->soles()[0].size_m.isApprox(Vec2(0.20, 0.08), 1e-6)) << r->soles()[0].size_m.transpose();
+}
+
 TEST(OddBiped, GeomsAreNamedByTheLinkThatOwnsThem) {
   const auto r = RobotModel::load(odd_yaml());
   const mjModel* m = r->mj();
