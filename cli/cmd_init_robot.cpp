@@ -34,7 +34,6 @@ int run_init_robot(InitRobotCliOptions o) {
   if (!fs::is_regular_file(o.guess.urdf_path, ec)) throw InputError(o.guess.urdf_path, "URDF not found");
   const std::string yaml_path = (fs::path(o.out_dir) / "robot.yaml").string();
   if (fs::exists(yaml_path, ec) && !o.force) throw InputError(yaml_path, "exists (pass --force to replace it)");
-  o.guess.config_dir = o.out_dir;
   const InitRobotResult r = guess_robot_config(o.guess);
   fs::create_directories(o.out_dir, ec);
   if (ec) throw InputError(o.out_dir, "cannot create the folder: " + ec.message());

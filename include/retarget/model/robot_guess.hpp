@@ -27,7 +27,6 @@ struct InitRobotOptions {
   std::string srdf_path;                   ///< optional: standing pose from a group state
   std::string name;                        ///< default: the URDF's robot name
   std::vector<std::string> package_paths;  ///< roots for package:// (absolute paths are written)
-  std::string config_dir;                  ///< where the robot.yaml will be written
   double knee_bend_rad = 0.35;             ///< knee flexion of the guessed standing pose
 };
 

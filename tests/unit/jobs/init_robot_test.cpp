@@ -34,7 +34,6 @@ TEST_P(InitRobot, GuessedConfigConvertsAWalkAsWellAsTheHandWrittenOne) {
   RT_REQUIRE_SHARED(clip, "bvh/cmu_max_131_01_start_walk_stop.bvh");
   InitRobotOptions options;
   options.urdf_path = urdf;  // package paths: guessed from the URDF's folders where needed
-  options.config_dir = test::scratch_dir();
   const InitRobotResult guess = guess_robot_config(options);
   const std::string yaml = test::scratch_dir() + "/robot.yaml";
   write_file_atomic(yaml, guess.yaml);

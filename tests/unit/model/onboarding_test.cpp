@@ -307,7 +307,6 @@ TEST(InitRobot, BackwardRootZDownFeetAndTripleSlashUrisNeedNoEdit) {
   InitRobotOptions o;
   o.urdf_path = test::source_path("tests/data/urdf/odd_biped/odd_biped.urdf");
   o.package_paths = {test::source_path("tests/data/urdf")};
-  o.config_dir = test::scratch_dir();
   const InitRobotResult g = guess_robot_config(o);
   EXPECT_NE(g.yaml.find("base_orientation: {forward: -x, up: z}"), std::string::npos) << g.yaml;
   EXPECT_NE(g.yaml.find("left:  {link: left_foot, sole: derive}"), std::string::npos) << g.yaml;
@@ -329,6 +328,35 @@ TEST(InitRobot, BackwardRootZDownFeetAndTripleSlashUrisNeedNoEdit) {
   EXPECT_EQ(link_of["left_knee"], "left_shank");
   EXPECT_EQ(link_of["right_toe"], "right_foot");
   EXPECT_EQ(link_of.count("left_elbow"), 0u);  // no arms
+}
+
+TEST(InitRobot, StandingPoseFromTheSrdfHalfSitting) {
+  InitRobotOptions o;
+  o.urdf_path = test::source_path("tests/data/urdf/odd_biped/odd_biped.urdf");
+  o.package_paths = {test::source_path("tests/data/urdf")};
+  o.srdf_path = test::scratch_dir() + "/odd.srdf";
+  write_file_atomic(o.srdf_path, R"(<?xml version="1.0"?>
+<robot name="odd_biped">
+  <group_state name="zero" group="all"><joint name="left_knee" value="0"/></group_state>
+  <group_state name="half_sitting" group="all">
+    <joint name="left_hip" value="-0.3"/><joint name="left_knee" value="0.6"/><joint name="left_ankle" value="-0.3"/>
+    <joint name="right_hip" value="-0.3"/><joint name="right_knee" value="0.6"/><joint name="right_ankle" value="-0.3"/>
+    <joint name="no_such_joint" value="1"/>
+  </group_state>
+</robot>
+)");
+  const InitRobotResult g = guess_robot_config(o);
+  EXPECT_NE(g.yaml.find("SRDF group state 'half_sitting'"), std::string::npos) << g.yaml;
+  EXPECT_NE(g.yaml.find("    left_knee: 0.6\n"), std::string::npos) << g.yaml;
+  EXPECT_EQ(g.yaml.find("no_such_joint"), std::string::npos);
+  // A joint value that is not a number is an error at its line.
+  write_file_atomic(o.srdf_path, "<robot name=\"x\">\n<group_state name=\"home\">\n<joint name=\"a\" value=\"abc\"/>\n</group_state>\n</robot>\n");
+  try {
+    guess_robot_config(o);
+    FAIL() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.location(), o.srdf_path + ":3");
+  }
 }
 
 TEST(InitRobot, NoLegsIsAnInputError) {
