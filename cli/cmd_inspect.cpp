@@ -13,7 +13,9 @@
 #include "cli/exit_codes.hpp"
 #include "cli/numeric_option.hpp"
 #include "retarget/core/strings.hpp"
+#include "retarget/model/robot_checks.hpp"
 #include "retarget/model/robot_model.hpp"
+#include "retarget/model/standing_hold.hpp"
 #include "retarget/motion/load_motion.hpp"
 
 namespace rt::cli {
@@ -27,6 +29,7 @@ struct InspectOptions {
   std::string source_units, up_axis;
   double source_fps = 0;
   bool keep_tpose = false;
+  std::string mjcf_path;  ///< robot: write the generated MuJoCo model here
 };
 
 // A robot is a name, a folder or a .yaml; anything else that is a file is a motion clip.
@@ -91,7 +94,9 @@ const char* joint_type_name(JointType t) {
 std::string limit_text(double v) { return std::isfinite(v) ? format("%8.3f", v) : std::string("       -"); }
 
 int inspect_robot(const InspectOptions& o) {
-  const auto model = RobotModel::load(o.target, o.package_paths);
+  RobotLoadOptions load;
+  load.keep_mjcf_assets = !o.mjcf_path.empty();
+  const auto model = RobotModel::load(load_robot_config(o.target, o.package_paths), load);
   const RobotConfig& c = model->config();
   int fixed = 0;
   for (const Joint& j : model->joints()) fixed += j.type == JointType::Fixed;
@@ -112,7 +117,23 @@ int inspect_robot(const InspectOptions& o) {
   }
   std::cout << "  landmarks     " << c.landmarks.size() << " mapped:";
   for (const LandmarkTarget& t : c.landmarks) std::cout << " " << landmark_name(t.landmark);
-  std::cout << "\n\njoints (model order; csv = export column after the 7 root columns)\n";
+  std::cout << "\n";
+  // The standing hold with robot.yaml's simulation.hold_kp / hold_kd: does the model stand at all?
+  const StandingHoldResult hold = simulate_standing_hold(*model);
+  std::cout << format("  standing hold %s (%.1f s joint PD at the standing pose, simulation.hold_kp %g, hold_kd %g; "
+                      "COM drift %.3f m)\n",
+                      hold.fell ? ("falls: " + hold.failure).c_str() : "stands", hold.simulated_s,
+                      c.simulation.hold_kp, c.simulation.hold_kd, hold.max_com_drift_m);
+  Diagnostics findings = model->diagnostics();
+  findings.append(check_robot(*model));
+  std::cout << format("  checks        %zu warning(s), %zu note(s)\n", findings.warning_count(),
+                      findings.items().size() - findings.warning_count());
+  for (const Diagnostic& d : findings.items()) std::cout << "    " << d.to_string() << "\n";
+  if (!o.mjcf_path.empty()) {
+    model->write_mjcf(o.mjcf_path);
+    std::cout << "  wrote         " << o.mjcf_path << " (the generated MuJoCo model; its meshes beside it as mesh<k>.stl)\n";
+  }
+  std::cout << "\njoints (model order; csv = export column after the 7 root columns)\n";
   std::cout << "   #  csv  name                          type          lower    upper  vel-lim  effort  standing\n";
   std::vector<int> column(static_cast<std::size_t>(model->nu()), -1);
   for (std::size_t k = 0; k < model->export_joint_order().size(); ++k)
@@ -140,6 +161,8 @@ Command setup_inspect(CLI::App& parent) {
   app->add_option("--up-axis", opts->up_axis, "Clip: override the detected up axis (x, y, z, -y, ...)");
   app->add_option("--skeleton-profile,--marker-map", opts->motion.profile_path, "Clip: YAML landmark map for the skeleton / markers");
   app->add_flag("--keep-tpose", opts->keep_tpose, "Clip: keep a synthetic T-pose at the start");
+  app->add_option("--mjcf", opts->mjcf_path,
+                  "Robot: write the generated MuJoCo model (MJCF) to this file, its meshes beside it as mesh<k>.stl");
   app->add_option("--package-path", opts->package_paths,
                   "Extra root folder for package:// URIs (repeatable; searched before robot.yaml's and ROS_PACKAGE_PATH)");
   return {app, [opts] { return is_clip(opts->target) ? inspect_clip(*opts) : inspect_robot(*opts); }};

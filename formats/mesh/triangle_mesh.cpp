@@ -134,8 +134,11 @@ void check_obj_polygons(const std::string& path) {
 void read_with_assimp(const std::string& path, const Vec3& scale, TriangleMesh& mesh) {
   check_obj_polygons(path);
   Assimp::Importer importer;
-  // Keep URDF/ROS coordinates: by default assimp rotates Z_UP COLLADA files to Y up.
-  importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
+  // COLLADA files declare their up axis (<up_axis>, Z_UP for most robot meshes, Y_UP for many
+  // exported from modelling tools) and units (<unit meter>): assimp applies both, turning every
+  // file to its own Y-up convention, so the Y-up result is turned back to Z up below. A Z_UP file
+  // comes out as written, a Y_UP one with its +Y along +Z (as ROS tools display it).
+  const bool collada = ends_with(to_lower(path), ".dae");
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
   const aiScene* scene =
       importer.ReadFile(path, aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_SortByPType);
@@ -151,7 +154,8 @@ void read_with_assimp(const std::string& path, const Vec3& scale, TriangleMesh& 
       for (int k = 0; k < 3; ++k) {
         if (face.mIndices[k] >= m->mNumVertices) throw InputError(path, "mesh has a face with a bad vertex index");
         const aiVector3D& p = m->mVertices[face.mIndices[k]];
-        v[k] = Vec3(p.x, p.y, p.z).cwiseProduct(scale);
+        const Vec3 p_file = collada ? Vec3(p.x, -p.z, p.y) : Vec3(p.x, p.y, p.z);  // Y up -> Z up
+        v[k] = p_file.cwiseProduct(scale);
         if (!v[k].allFinite()) throw InputError(path, "mesh has a non-finite vertex");
       }
       add_triangle(mesh, pool, v[0], v[1], v[2]);

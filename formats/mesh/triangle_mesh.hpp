@@ -35,7 +35,8 @@ struct MeshLoadOptions {
 };
 
 /// Loads a mesh file with assimp: triangulated, node transforms applied (PreTransformVertices),
-/// COLLADA <unit> applied and its up axis ignored (URDF coordinates are kept). Points and lines
+/// COLLADA <unit> and <up_axis> applied (a Y_UP file's +Y becomes +Z; Z_UP files are kept as
+/// written), then the URDF <mesh scale>. Points and lines
 /// are dropped. Throws InputError("<path>: ...") when the file cannot be read or has no triangles.
 TriangleMesh load_mesh(const std::string& path, const MeshLoadOptions& options = {});
 

@@ -55,10 +55,13 @@ ResolvedResource resolve_package_uri(const std::string& uri, const std::string& 
                                      const std::vector<std::string>& package_paths) {
   if (uri.empty()) return missing("empty file name");
   if (starts_with(uri, "package://")) {
-    const std::string rest = uri.substr(10);
-    if (starts_with(rest, "/")) {  // package:///abs/path
+    std::string rest = uri.substr(10);
+    // package:///pkg/rel (an empty authority, as example-robot-data and some exporters write it)
+    // names the same file as package://pkg/rel; an existing absolute path is taken as such.
+    const bool triple_slash = starts_with(rest, "/");
+    if (triple_slash) {
       if (is_file(rest)) return found(rest);
-      return missing("file not found: " + rest + " (from '" + uri + "')");
+      rest = rest.substr(rest.find_first_not_of('/') == std::string::npos ? rest.size() : rest.find_first_not_of('/'));
     }
     const auto slash = rest.find('/');
     if (slash == std::string::npos || slash == 0 || slash + 1 >= rest.size())

@@ -2,7 +2,8 @@
 /// Resolution of resource references found in URDF files and robot configs:
 ///   package://pkg/rel/path   -> <root>/pkg/rel/path or <root>/<any>/pkg/rel/path for the first
 ///                               root of the search path that holds the file
-///   package:///abs/path      -> /abs/path (ROS 2 style absolute package URI)
+///   package:///pkg/rel/path  -> /pkg/rel/path when that file exists, else as package://pkg/rel/path
+///                               (an empty authority, as example-robot-data URDFs write it)
 ///   file:///abs/path         -> /abs/path
 ///   relative/path            -> <base_dir>/relative/path
 ///   /abs/path                -> /abs/path

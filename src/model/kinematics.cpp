@@ -218,8 +218,7 @@ std::array<Mat3, 2> sole_frames_in_links(const RobotModel& model, RobotData& dat
   q0[3] = 1;
   update_kinematics(model, data, q0);
   std::array<Mat3, 2> R;
-  for (int foot = 0; foot < 2; ++foot)
-    R[static_cast<std::size_t>(foot)] = link_pose(model, data, model.soles()[static_cast<std::size_t>(foot)].link).linear().transpose();
+  for (int foot = 0; foot < 2; ++foot) R[static_cast<std::size_t>(foot)] = model.soles()[static_cast<std::size_t>(foot)].R_L_S;
   return R;
 }
 

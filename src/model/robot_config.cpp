@@ -66,6 +66,7 @@ class ConfigParser {
   }
 
   void parse_feet(const YamlView& feet);
+  void parse_base_orientation(const YamlView& v);
   void parse_landmarks(const YamlView& landmarks);
   void parse_standing(const YamlView& standing);
   void parse_controller(const YamlView& controller);
@@ -77,8 +78,8 @@ class ConfigParser {
 
 void ConfigParser::parse(const YamlView& doc, const std::vector<std::string>& extra_package_paths) {
   doc.expect_map();
-  doc.check_keys({"name", "urdf", "package_paths", "feet", "landmarks", "export_joints", "standing_pose", "controller",
-                  "simulation"});
+  doc.check_keys({"name", "urdf", "package_paths", "feet", "landmarks", "base_orientation", "joint_limits",
+                  "export_joints", "standing_pose", "controller", "simulation"});
   c_.name = name_string(doc.at("name"));
 
   // Search order: --package-path, then the config's own roots, then $ROS_PACKAGE_PATH.
@@ -102,6 +103,18 @@ void ConfigParser::parse(const YamlView& doc, const std::vector<std::string>& ex
 
   parse_feet(doc.at("feet"));
   if (auto lm = doc.find("landmarks")) parse_landmarks(*lm);
+  if (auto bo = doc.find("base_orientation")) parse_base_orientation(*bo);
+  if (auto jl = doc.find("joint_limits")) {
+    mark(*jl).expect_map();
+    for (const auto& name : jl->keys()) {
+      const YamlView entry = mark(jl->at(name));
+      entry.check_keys({"velocity", "effort"});
+      JointLimitOverride o;
+      o.velocity = number_or(entry, "velocity", 0, 1e-6, 1e6, "velocity limit");
+      o.effort = number_or(entry, "effort", 0, 1e-6, 1e7, "effort limit");
+      c_.joint_limits[name] = o;
+    }
+  }
   if (auto ej = doc.find("export_joints")) {
     mark(*ej).expect_sequence();
     std::set<std::string> seen;
@@ -140,6 +153,38 @@ void ConfigParser::parse_feet(const YamlView& feet) {
     }
   }
   if (c_.feet[0].link == c_.feet[1].link) feet.at("right").at("link").fail("left and right feet use the same link");
+}
+
+// A signed axis name ("x", "-y", "+z") as a unit vector.
+Vec3 axis_vector(const YamlView& v) {
+  std::string a = to_lower(v.as_string());
+  double sign = 1;
+  if (!a.empty() && (a[0] == '-' || a[0] == '+')) {
+    sign = a[0] == '-' ? -1 : 1;
+    a = a.substr(1);
+  }
+  if (a == "x") return sign * Vec3::UnitX();
+  if (a == "y") return sign * Vec3::UnitY();
+  if (a == "z") return sign * Vec3::UnitZ();
+  v.fail("expected an axis of the root link: x, y, z, -x, -y or -z");
+}
+
+void ConfigParser::parse_base_orientation(const YamlView& v) {
+  mark(v).check_keys({"forward", "up", "rpy"});
+  if (auto rpy = v.find("rpy")) {
+    if (v.find("forward") || v.find("up")) rpy->fail("give either rpy or forward/up, not both");
+    const Vec3 a = vec3(*rpy);
+    // URDF convention: R = Rz(yaw) Ry(pitch) Rx(roll).
+    c_.R_root_F = (AngleAxis(a.z(), Vec3::UnitZ()) * AngleAxis(a.y(), Vec3::UnitY()) * AngleAxis(a.x(), Vec3::UnitX()))
+                      .toRotationMatrix();
+    return;
+  }
+  const Vec3 forward = v.find("forward") ? axis_vector(mark(v.at("forward"))) : Vec3::UnitX();
+  const Vec3 up = v.find("up") ? axis_vector(mark(v.at("up"))) : Vec3::UnitZ();
+  if (std::abs(forward.dot(up)) > 0.5) v.fail("forward and up must be different, perpendicular axes");
+  c_.R_root_F.col(0) = forward;
+  c_.R_root_F.col(1) = up.cross(forward);
+  c_.R_root_F.col(2) = up;
 }
 
 void ConfigParser::parse_landmarks(const YamlView& landmarks) {

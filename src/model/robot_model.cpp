@@ -5,6 +5,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <map>
 #include <tuple>
@@ -15,6 +16,7 @@
 #include "retarget/core/error.hpp"
 #include "retarget/core/file_io.hpp"
 #include "retarget/core/strings.hpp"
+#include "retarget/model/sole_fit.hpp"
 
 namespace rt {
 
@@ -98,15 +100,26 @@ bool is_flat(const TriangleMesh& m, Iso3& X_G_box, Vec3& half) {
 
 }  // namespace
 
+Quat RobotModel::root_link_orientation(const Quat& quat_W_F) const {
+  return (quat_W_F * Quat(Mat3(config_.R_root_F.transpose()))).normalized();
+}
+
+Quat RobotModel::root_body_orientation(const Quat& quat_W_root) const {
+  return (quat_W_root * Quat(config_.R_root_F)).normalized();
+}
+
 std::array<Vec3, 4> Sole::corners_L() const {
   const double hx = 0.5 * size_m.x(), hy = 0.5 * size_m.y();
-  return {p_L_center + Vec3(-hx, -hy, 0), p_L_center + Vec3(hx, -hy, 0), p_L_center + Vec3(hx, hy, 0),
-          p_L_center + Vec3(-hx, hy, 0)};
+  return {p_L_center + R_L_S * Vec3(-hx, -hy, 0), p_L_center + R_L_S * Vec3(hx, -hy, 0),
+          p_L_center + R_L_S * Vec3(hx, hy, 0), p_L_center + R_L_S * Vec3(-hx, hy, 0)};
 }
 
 class RobotModelBuilder {
  public:
-  explicit RobotModelBuilder(const RobotConfig& config) : cfg_(config), m_(new RobotModel()) { m_->config_ = config; }
+  RobotModelBuilder(const RobotConfig& config, const RobotLoadOptions& options)
+      : cfg_(config), options_(options), m_(new RobotModel()) {
+    m_->config_ = config;
+  }
 
   std::unique_ptr<RobotModel> build();
 
@@ -122,6 +135,9 @@ class RobotModelBuilder {
   void find_root();
   void build_bodies();
   void merge_inertias();
+  void resolve_standing_joints();
+  std::vector<Iso3> link_poses(const VecX& q) const;
+  void append_surface(const Geometry& g, const Iso3& X_W_L, const std::string& where, FootSurface& out);
   void resolve_soles();
   void add_geometry();
   void build_collision_hulls();
@@ -131,9 +147,9 @@ class RobotModelBuilder {
   void finish_with_mujoco();
 
   const TriangleMesh& mesh(const std::string& path, const Vec3& scale, const std::string& where);
-  void bounds_in_link(const Geometry& g, const std::string& where, Vec3& lo, Vec3& hi);
 
   const RobotConfig& cfg_;
+  RobotLoadOptions options_;
   std::unique_ptr<RobotModel> m_;
   UrdfRobot urdf_;
   int world_link_ = -1;  // empty URDF root above a floating joint, or -1
@@ -144,6 +160,8 @@ class RobotModelBuilder {
   std::vector<detail::MjcfFile> files_;
   std::array<std::string, 2> sole_geom_names_{"sole_left", "sole_right"};
   double root_height_m_ = 0;
+  std::map<std::string, int> geom_owner_;  // generated geom name -> URDF link
+  VecX q_stand_;  // standing configuration, root upright at the origin (height set later)
 };
 
 int RobotModelBuilder::config_link(const std::string& key_path, const std::string& name) const {
@@ -231,7 +249,10 @@ void RobotModelBuilder::build_bodies() {
   }
   Link& root = links[static_cast<std::size_t>(m_->root_link_)];
   root.body = 1;
+  // The root body's frame is the forward-x/left-y/up-z frame F (robot.yaml base_orientation): the
+  // whole pipeline sees a robot that faces +X; the root link hangs in it turned by R_F_root.
   root.X_B_L = Iso3::Identity();
+  root.X_B_L.linear() = cfg_.R_root_F.transpose();
 
   // Free joint name that no URDF joint uses.
   mjcf_.free_joint_name = "root";
@@ -363,63 +384,147 @@ const TriangleMesh& RobotModelBuilder::mesh(const std::string& path, const Vec3&
   return meshes_.emplace(key, std::move(tm)).first->second;
 }
 
-void RobotModelBuilder::bounds_in_link(const Geometry& g, const std::string& where, Vec3& lo, Vec3& hi) {
-  auto add = [&](const Vec3& p) {
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  };
-  const Mat3 R = g.X_L_G.linear();
-  const Vec3 c = g.X_L_G.translation();
+void RobotModelBuilder::resolve_standing_joints() {
+  const int nu = m_->nu();
+  q_stand_ = VecX::Zero(7 + nu);
+  q_stand_[3] = 1;  // identity quaternion (w x y z)
+  std::vector<char> listed(static_cast<std::size_t>(nu), 0);
+  for (const auto& [name, value] : cfg_.standing_joints) {
+    const std::string key = "standing_pose.joints." + name;
+    const int j = config_joint(key, name);
+    const Joint& joint = m_->joints_[static_cast<std::size_t>(j)];
+    if (joint.has_position_limits && (value < joint.lower || value > joint.upper))
+      config_error(key, format("%g is outside the joint range [%g, %g]", value, joint.lower, joint.upper));
+    q_stand_[joint.qpos_index] = value;
+    listed[static_cast<std::size_t>(joint.qpos_index - 7)] = 1;
+  }
+  // An unlisted joint stands at 0 when 0 is in its range, else just inside the nearer limit (a
+  // joint held at its limit would show as a joint-limit violation in every check).
+  for (int k = 0; k < nu; ++k) {
+    const Joint& joint = m_->joints_[static_cast<std::size_t>(m_->movable_joints_[static_cast<std::size_t>(k)])];
+    if (listed[static_cast<std::size_t>(k)] || !joint.has_position_limits || (joint.lower <= 0 && 0 <= joint.upper)) continue;
+    const double margin = std::min(0.05, 0.1 * (joint.upper - joint.lower));
+    const double value = joint.lower > 0 ? joint.lower + margin : joint.upper - margin;
+    q_stand_[7 + k] = value;
+    m_->diagnostics_.note(cfg_.where("standing_pose"),
+                          format("standing_pose: joint '%s' is not listed and 0 is outside its range [%g, %g]: it stands at %g",
+                                 joint.name.c_str(), joint.lower, joint.upper, value));
+  }
+}
+
+std::vector<Iso3> RobotModelBuilder::link_poses(const VecX& q) const {
+  // Forward kinematics of the URDF tree with the root body at the origin, upright (facing +X).
+  std::vector<Iso3> X_W_L(m_->links_.size(), Iso3::Identity());
+  X_W_L[static_cast<std::size_t>(m_->root_link_)] = m_->links_[static_cast<std::size_t>(m_->root_link_)].X_B_L;
+  std::vector<int> stack{m_->root_link_};
+  while (!stack.empty()) {
+    const int li = stack.back();
+    stack.pop_back();
+    for (int ji : m_->links_[static_cast<std::size_t>(li)].child_joints) {
+      const Joint& j = m_->joints_[static_cast<std::size_t>(ji)];
+      const double qj = j.qpos_index >= 0 ? q[j.qpos_index] : 0.0;
+      X_W_L[static_cast<std::size_t>(j.child_link)] = X_W_L[static_cast<std::size_t>(li)] * j.X_P_J * joint_motion(j, qj);
+      stack.push_back(j.child_link);
+    }
+  }
+  return X_W_L;
+}
+
+void RobotModelBuilder::append_surface(const Geometry& g, const Iso3& X_W_L, const std::string& where, FootSurface& out) {
+  const Iso3 X_W_G = X_W_L * g.X_L_G;
+  const int base = static_cast<int>(out.vertices_F.size());
+  auto tri = [&](int a, int b, int c) { out.triangles.push_back({base + a, base + b, base + c}); };
   switch (g.kind) {
     case Geometry::Kind::Box: {
-      const Vec3 half = 0.5 * (R.cwiseAbs() * g.box_size_m);
-      add(c - half);
-      add(c + half);
+      for (int k = 0; k < 8; ++k)
+        out.vertices_F.push_back(X_W_G * (0.5 * g.box_size_m.cwiseProduct(Vec3(k & 1 ? 1 : -1, k & 2 ? 1 : -1, k & 4 ? 1 : -1))));
+      // Two triangles per face (corner k has bit 0 = +x, bit 1 = +y, bit 2 = +z).
+      const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+      for (const auto& f : faces) {
+        tri(f[0], f[1], f[2]);
+        tri(f[0], f[2], f[3]);
+      }
       break;
     }
-    case Geometry::Kind::Sphere:
-      add(c - Vec3::Constant(g.radius_m));
-      add(c + Vec3::Constant(g.radius_m));
-      break;
     case Geometry::Kind::Cylinder: {
-      // Exact box of a cylinder with axis a: |a_i| L/2 + r sqrt(1 - a_i^2) along each axis.
-      const Vec3 a = R.col(2);
-      Vec3 half;
-      for (int i = 0; i < 3; ++i)
-        half[i] = std::abs(a[i]) * 0.5 * g.length_m + g.radius_m * std::sqrt(std::max(0.0, 1 - a[i] * a[i]));
-      add(c - half);
-      add(c + half);
+      constexpr int n = 32;
+      for (int k = 0; k < n; ++k) {
+        const double a = 2 * M_PI * k / n;
+        for (const double z : {-0.5 * g.length_m, 0.5 * g.length_m})
+          out.vertices_F.push_back(X_W_G * Vec3(g.radius_m * std::cos(a), g.radius_m * std::sin(a), z));
+      }
+      for (int k = 0; k < n; ++k) {
+        const int k1 = (k + 1) % n;
+        tri(2 * k, 2 * k1, 2 * k1 + 1);
+        tri(2 * k, 2 * k1 + 1, 2 * k + 1);
+        if (k >= 2) {
+          tri(0, 2 * k1, 2 * k);              // bottom cap fan
+          tri(1, 2 * k + 1, 2 * k1 + 1);      // top cap fan
+        }
+      }
       break;
     }
-    case Geometry::Kind::Mesh:
-      for (const Vec3& v : mesh(g.mesh_path, g.mesh_scale, where).vertices) add(g.X_L_G * v);
+    case Geometry::Kind::Sphere: {
+      constexpr int rings = 8, segments = 16;
+      for (int i = 0; i <= rings; ++i)
+        for (int j = 0; j < segments; ++j) {
+          const double th = M_PI * i / rings, ph = 2 * M_PI * j / segments;
+          out.vertices_F.push_back(X_W_G * (g.radius_m * Vec3(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th))));
+        }
+      for (int i = 0; i < rings; ++i)
+        for (int j = 0; j < segments; ++j) {
+          const int j1 = (j + 1) % segments;
+          tri(i * segments + j, (i + 1) * segments + j, (i + 1) * segments + j1);
+          tri(i * segments + j, (i + 1) * segments + j1, i * segments + j1);
+        }
       break;
+    }
+    case Geometry::Kind::Mesh: {
+      const TriangleMesh& tm = mesh(g.mesh_path, g.mesh_scale, where);
+      for (const Vec3& v : tm.vertices) out.vertices_F.push_back(X_W_G * v);
+      for (const auto& f : tm.faces) tri(f[0], f[1], f[2]);
+      break;
+    }
   }
 }
 
 void RobotModelBuilder::resolve_soles() {
   const char* sides[2] = {"left", "right"};
+  std::vector<Iso3> X_W_L;  // standing pose, computed when a sole is derived
   for (int s = 0; s < 2; ++s) {
     const FootConfig& f = cfg_.feet[static_cast<std::size_t>(s)];
     const std::string key = std::string("feet.") + sides[s];
     Sole& sole = m_->soles_[static_cast<std::size_t>(s)];
     sole.link = config_link(key + ".link", f.link);
-    if (f.sole.derive) {
-      const Link& link = m_->links_[static_cast<std::size_t>(sole.link)];
-      if (link.collisions.empty())
-        config_error(key + ".sole", "cannot derive the sole: link '" + f.link +
-                                        "' has no collision geometry (give {center: [x, y, z], size: [length, width]})");
-      Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-      for (const Geometry& g : link.collisions) bounds_in_link(g, urdf_.link_location(sole.link), lo, hi);
-      sole.p_L_center = Vec3(0.5 * (lo.x() + hi.x()), 0.5 * (lo.y() + hi.y()), lo.z());
-      sole.size_m = Vec2(hi.x() - lo.x(), hi.y() - lo.y());
-      if (!(sole.size_m.minCoeff() > 1e-3))
-        config_error(key + ".sole", "the derived sole of link '" + f.link + "' is degenerate (" +
-                                        format("%g x %g m", sole.size_m.x(), sole.size_m.y()) + ")");
-    } else {
+    if (!f.sole.derive) {
       sole.p_L_center = f.sole.p_L_center;
       sole.size_m = f.sole.size_m;
+      continue;
     }
+    // The lowest flat face of the foot's collision geometry (else its visual geometry) in the
+    // standing pose, measured with world axes: the link's own axes need not point up or forward.
+    const Link& link = m_->links_[static_cast<std::size_t>(sole.link)];
+    // Collision geometry made of spheres only is a set of contact points (G1: four 5 mm spheres
+    // inside the sole's outline), not the foot's shape: then the visual geometry has the sole.
+    const bool contact_points = !link.collisions.empty() && !link.visuals.empty() &&
+                                std::all_of(link.collisions.begin(), link.collisions.end(),
+                                            [](const Geometry& g) { return g.kind == Geometry::Kind::Sphere; });
+    const std::vector<Geometry>& geometry = link.collisions.empty() || contact_points ? link.visuals : link.collisions;
+    if (geometry.empty())
+      config_error(key + ".sole", "cannot derive the sole: link '" + f.link +
+                                      "' has no collision or visual geometry (give {center: [x, y, z], size: [length, width]})");
+    if (X_W_L.empty()) X_W_L = link_poses(q_stand_);
+    const Iso3& X = X_W_L[static_cast<std::size_t>(sole.link)];
+    FootSurface surface;
+    for (const Geometry& g : geometry) append_surface(g, X, urdf_.link_location(sole.link), surface);
+    const SoleFit fit = fit_sole(surface);
+    if (!(fit.size_m.minCoeff() > 1e-3))
+      config_error(key + ".sole", "the derived sole of link '" + f.link + "' is degenerate (" +
+                                      format("%g x %g m", fit.size_m.x(), fit.size_m.y()) +
+                                      "): its lowest part is not a flat face; give {center: [x, y, z], size: [length, width]}");
+    sole.p_L_center = X.inverse() * fit.p_F_center;
+    sole.R_L_S = X.linear().transpose() * fit.R_F_S;
+    sole.size_m = fit.size_m;
   }
 }
 
@@ -434,6 +539,7 @@ void RobotModelBuilder::add_geometry() {
       const Geometry& g = link.collisions[k];
       detail::MjcfGeom mg;
       mg.name = "col_" + link.name + "_" + std::to_string(k);
+      geom_owner_[mg.name] = static_cast<int>(li);
       mg.group = RobotModel::kCollisionGeomGroup;
       mg.X_B_G = link.X_B_L * g.X_L_G;
       switch (g.kind) {
@@ -485,11 +591,13 @@ void RobotModelBuilder::add_geometry() {
     const Link& link = m_->links_[static_cast<std::size_t>(sole.link)];
     detail::MjcfGeom mg;
     mg.name = sole_geom_names_[static_cast<std::size_t>(s)];
+    geom_owner_[mg.name] = sole.link;
     mg.kind = detail::MjcfGeom::Kind::Box;
     mg.group = RobotModel::kSoleGeomGroup;
     mg.half_size = Vec3(0.5 * sole.size_m.x(), 0.5 * sole.size_m.y(), 0.5 * kSoleThickness_m);
     Iso3 X_L_G = Iso3::Identity();
-    X_L_G.translation() = sole.p_L_center + Vec3(0, 0, 0.5 * kSoleThickness_m);
+    X_L_G.linear() = sole.R_L_S;
+    X_L_G.translation() = sole.p_L_center + sole.R_L_S * Vec3(0, 0, 0.5 * kSoleThickness_m);
     mg.X_B_G = link.X_B_L * X_L_G;
     mjcf_.bodies[static_cast<std::size_t>(link.body - 1)].geoms.push_back(mg);
   }
@@ -544,6 +652,11 @@ void RobotModelBuilder::resolve_joint_settings() {
   for (const auto& [name, g] : cfg_.controller.joint_gains) config_joint("controller.joint_gains." + name, name);
   for (const auto& lm : cfg_.landmarks)
     config_link("landmarks." + std::string(landmark_name(lm.landmark)) + ".link", lm.link);
+  for (const auto& [name, o] : cfg_.joint_limits) {
+    Joint& j = m_->joints_[static_cast<std::size_t>(config_joint("joint_limits." + name, name))];
+    if (o.velocity > 0) j.velocity_limit = o.velocity;
+    if (o.effort > 0) j.effort_limit = o.effort;
+  }
 
   const int nu = m_->nu();
   m_->q_lower_.resize(nu);
@@ -590,30 +703,8 @@ void RobotModelBuilder::resolve_joint_settings() {
 }
 
 void RobotModelBuilder::compute_standing_height() {
-  const int nu = m_->nu();
-  VecX q = VecX::Zero(7 + nu);
-  q[3] = 1;  // identity quaternion (w x y z)
-  for (const auto& [name, value] : cfg_.standing_joints) {
-    const std::string key = "standing_pose.joints." + name;
-    const int j = config_joint(key, name);
-    const Joint& joint = m_->joints_[static_cast<std::size_t>(j)];
-    if (joint.has_position_limits && (value < joint.lower || value > joint.upper))
-      config_error(key, format("%g is outside the joint range [%g, %g]", value, joint.lower, joint.upper));
-    q[joint.qpos_index] = value;
-  }
-  // Forward kinematics of the URDF tree with the root at the origin, upright.
-  std::vector<Iso3> X_W_L(m_->links_.size(), Iso3::Identity());
-  std::vector<int> stack{m_->root_link_};
-  while (!stack.empty()) {
-    const int li = stack.back();
-    stack.pop_back();
-    for (int ji : m_->links_[static_cast<std::size_t>(li)].child_joints) {
-      const Joint& j = m_->joints_[static_cast<std::size_t>(ji)];
-      const double qj = j.qpos_index >= 0 ? q[j.qpos_index] : 0.0;
-      X_W_L[static_cast<std::size_t>(j.child_link)] = X_W_L[static_cast<std::size_t>(li)] * j.X_P_J * joint_motion(j, qj);
-      stack.push_back(j.child_link);
-    }
-  }
+  VecX q = q_stand_;
+  const std::vector<Iso3> X_W_L = link_poses(q);
   double lowest = std::numeric_limits<double>::infinity();
   for (const Sole& s : m_->soles_)
     for (const Vec3& c : s.corners_L()) lowest = std::min(lowest, (X_W_L[static_cast<std::size_t>(s.link)] * c).z());
@@ -631,6 +722,9 @@ void RobotModelBuilder::compile() {
   std::string warning;
   m_->mj_ = detail::compile_mjcf(m_->mjcf_, files_, cfg_.urdf_path, warning);
   if (!warning.empty()) m_->diagnostics_.warn(cfg_.urdf_path, "MuJoCo: " + warning);
+  m_->mjcf_assets_kept_ = options_.keep_mjcf_assets;
+  if (options_.keep_mjcf_assets)
+    for (auto& f : files_) m_->mjcf_assets_.emplace_back(f.name, std::move(f.bytes));
   files_.clear();
   meshes_.clear();
 }
@@ -657,6 +751,13 @@ void RobotModelBuilder::finish_with_mujoco() {
     RT_DEMAND(m_->soles_[static_cast<std::size_t>(s)].geom >= 0, "no sole geom");
   }
 
+  m_->geom_links_.assign(static_cast<std::size_t>(mj->ngeom), -1);
+  for (const auto& [name, link] : geom_owner_) {
+    const int id = mj_name2id(mj, mjOBJ_GEOM, name.c_str());
+    RT_DEMAND(id >= 0, "generated geom " + name + " is missing from the MuJoCo model");
+    m_->geom_links_[static_cast<std::size_t>(id)] = link;
+  }
+
   const double mj_mass = mj_getTotalmass(mj);
   if (std::abs(mj_mass - m_->total_mass_kg_) > 1e-9 * std::max(1.0, m_->total_mass_kg_))
     m_->diagnostics_.note(cfg_.urdf_path, format("simulated mass %.6f kg differs from the URDF's %.6f kg (tiny masses added to massless bodies)",
@@ -676,6 +777,7 @@ std::unique_ptr<RobotModel> RobotModelBuilder::build() {
   find_root();
   build_bodies();
   merge_inertias();
+  resolve_standing_joints();
   resolve_soles();
   resolve_joint_settings();
   add_geometry();
@@ -686,7 +788,17 @@ std::unique_ptr<RobotModel> RobotModelBuilder::build() {
   return std::move(m_);
 }
 
-std::unique_ptr<RobotModel> RobotModel::load(const RobotConfig& config) { return RobotModelBuilder(config).build(); }
+std::unique_ptr<RobotModel> RobotModel::load(const RobotConfig& config, const RobotLoadOptions& options) {
+  return RobotModelBuilder(config, options).build();
+}
+
+void RobotModel::write_mjcf(const std::string& path) const {
+  if (!mjcf_assets_kept_ && mj_->nmesh > 0)
+    throw InputError(path, "the model was loaded without its mesh files (RobotLoadOptions::keep_mjcf_assets)");
+  const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+  for (const auto& [name, bytes] : mjcf_assets_) write_file_atomic((dir / name).string(), bytes);
+  write_file_atomic(path, mjcf_);
+}
 
 std::unique_ptr<RobotModel> RobotModel::load(const std::string& robot, const std::vector<std::string>& extra_package_paths) {
   return load(load_robot_config(robot, extra_package_paths));

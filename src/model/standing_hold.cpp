@@ -76,7 +76,7 @@ StandingHoldResult simulate_standing_hold(const RobotModel& model, const Standin
       const mjContact& con = d->contact[c];
       const int other = con.geom1 == model.floor_geom() ? con.geom2 : con.geom2 == model.floor_geom() ? con.geom1 : -1;
       if (other < 0 || model.sole_side(other) >= 0) continue;
-      const int link = model.body_link(m->geom_bodyid[other]);
+      const int link = model.geom_link(other);
       r.fell = true;
       r.failure = format("link '%s' touched the floor at t = %.3f s",
                          link >= 0 ? model.links()[static_cast<std::size_t>(link)].name.c_str() : "?", d->time);

@@ -31,7 +31,7 @@ MatX reference_q(const RobotModel& model, const Reference& ref) {
   const std::vector<int>& order = model.export_joint_order();
   for (int k = 0; k < ref.num_frames(); ++k) {
     q.col(k).head<3>() = ref.root_pos_W.col(k);
-    const Quat& R = ref.root_quat_W[static_cast<std::size_t>(k)];
+    const Quat R = model.root_body_orientation(ref.root_quat_W[static_cast<std::size_t>(k)]);
     q.col(k).segment<4>(3) << R.w(), R.x(), R.y(), R.z();
     for (std::size_t c = 0; c < order.size(); ++c) q(7 + order[c], k) = ref.joint_pos(static_cast<Eigen::Index>(c), k);
   }
@@ -120,7 +120,7 @@ QualityMetrics foot_metrics(const RobotModel& model, RobotData& data, const MatX
       const Iso3 X = link_pose(model, data, sole.link);
       const Mat3 R_sole = X.linear() * R_L_sole[k];
       const Vec2 centre = (X * sole.p_L_center).head<2>();
-      const Vec2 heel = (X * (sole.p_L_center - Vec3(0.5 * sole.size_m.x(), 0, 0))).head<2>();
+      const Vec2 heel = (X * (sole.p_L_center - sole.R_L_S * Vec3(0.5 * sole.size_m.x(), 0, 0))).head<2>();
       const double yaw = std::atan2(R_sole(1, 0), R_sole(0, 0));
       if (f == 0 || !contacts[k][static_cast<std::size_t>(f - 1)]) {
         start_centre[k] = centre;

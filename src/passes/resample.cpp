@@ -40,7 +40,7 @@ Reference resample_motion(const RobotModel& model, const RobotMotion& motion, co
     const auto qi = motion.q.col(i), qj = motion.q.col(j);
     ref.root_pos_W.col(k) = (1 - a) * qi.head<3>() + a * qj.head<3>();
     const Quat Qi(qi[3], qi[4], qi[5], qi[6]), Qj(qj[3], qj[4], qj[5], qj[6]);
-    ref.root_quat_W[static_cast<std::size_t>(k)] = Qi.slerp(a, Qj).normalized();
+    ref.root_quat_W[static_cast<std::size_t>(k)] = model.root_link_orientation(Qi.slerp(a, Qj).normalized());
     for (int c = 0; c < J; ++c) {
       const int row = 7 + order[static_cast<std::size_t>(c)];
       ref.joint_pos(c, k) = (1 - a) * qi[row] + a * qj[row];

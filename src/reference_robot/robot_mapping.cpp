@@ -29,7 +29,7 @@ ReferenceRobotMap::ReferenceRobotMap(const RobotModel& model, const Reference& r
 VecX ReferenceRobotMap::q(const Reference& ref, int frame) const {
   VecX q(model_->nq());
   q.head<3>() = ref.root_pos_W.col(frame);
-  const Quat& r = ref.root_quat_W[static_cast<std::size_t>(frame)];
+  const Quat r = model_->root_body_orientation(ref.root_quat_W[static_cast<std::size_t>(frame)]);
   q.segment<4>(3) << r.w(), r.x(), r.y(), r.z();
   for (int i = 0; i < model_->nu(); ++i) q[7 + i] = ref.joint_pos(column_of_movable_[static_cast<std::size_t>(i)], frame);
   return q;
@@ -50,7 +50,7 @@ Reference constant_reference(const RobotModel& model, const VecX& q, double dura
   for (int k : model.export_joint_order())
     ref.joint_names.push_back(model.joints()[static_cast<std::size_t>(model.movable_joints()[static_cast<std::size_t>(k)])].name);
   ref.root_pos_W = q.head<3>().replicate(1, T);
-  ref.root_quat_W.assign(static_cast<std::size_t>(T), Quat(q[3], q[4], q[5], q[6]).normalized());
+  ref.root_quat_W.assign(static_cast<std::size_t>(T), model.root_link_orientation(Quat(q[3], q[4], q[5], q[6]).normalized()));
   ref.joint_pos.resize(static_cast<Eigen::Index>(ref.joint_names.size()), T);
   for (std::size_t c = 0; c < ref.joint_names.size(); ++c)
     ref.joint_pos.row(static_cast<Eigen::Index>(c)).setConstant(q[7 + model.export_joint_order()[c]]);

@@ -77,7 +77,7 @@ ContactState Plant::contacts() const {
       fc.force_W += f_W;
       foot_moment[static_cast<std::size_t>(side)] += fn * p.head<2>();
     } else {
-      const int link = model_->body_link(m->geom_bodyid[robot_geom]);
+      const int link = model_->geom_link(robot_geom);
       if (std::find(s.non_sole_links.begin(), s.non_sole_links.end(), link) == s.non_sole_links.end())
         s.non_sole_links.push_back(link);
     }

@@ -61,10 +61,42 @@ TEST(Cli, InspectRobotAndClip) {
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("robot humanoid25"), std::string::npos);
   EXPECT_NE(r.out.find("mass          51.00 kg"), std::string::npos);
+  EXPECT_NE(r.out.find("standing hold stands"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("checks        0 warning(s)"), std::string::npos) << r.out;
+  // The generated MuJoCo model, for MuJoCo's own tools.
+  r = run(dir, "inspect '" + test::source_path("tests/data/urdf/odd_biped") + "' --mjcf model/odd.xml");
+  EXPECT_EQ(r.status, 2) << r.err;  // the folder does not exist: one line, exit 2
+  EXPECT_EQ(lines(r.err), 1) << r.err;
+  std::filesystem::create_directories(dir + "/model");
+  r = run(dir, "inspect '" + test::source_path("tests/data/urdf/odd_biped") + "' --mjcf model/odd.xml");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(dir + "/model/odd.xml"));
   r = run(dir, "inspect '" + test::source_path("examples/clips/foot_lift.bvh") + "'");
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("format        bvh"), std::string::npos);
   EXPECT_NE(r.out.find("units         cm"), std::string::npos);
+}
+
+TEST(Cli, InitRobotWritesALoadableConfig) {
+  const std::string dir = test::scratch_dir();
+  const std::string urdf = "'" + test::source_path("tests/data/urdf/odd_biped/odd_biped.urdf") + "'";
+  const std::string pkg = " --package-path '" + test::source_path("tests/data/urdf") + "'";
+  CliRun r = run(dir, "init-robot " + urdf + pkg + " -o odd");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("forward = root -x, up = root z"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("checks        0 warning(s)"), std::string::npos) << r.out;
+  EXPECT_TRUE(std::filesystem::exists(dir + "/odd/robot.yaml"));
+  r = run(dir, "inspect odd");
+  EXPECT_EQ(r.status, 0) << r.err;
+  // An existing robot.yaml is kept unless --force; a missing URDF is bad input. One line, exit 2.
+  r = run(dir, "init-robot " + urdf + pkg + " -o odd");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("--force"), std::string::npos) << r.err;
+  EXPECT_EQ(run(dir, "init-robot " + urdf + pkg + " -o odd --force").status, 0);
+  r = run(dir, "init-robot nope.urdf -o x");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(lines(r.err), 1) << r.err;
 }
 
 TEST(Cli, BadInputIsOneLineWithLocationAndExit2) {

@@ -75,8 +75,9 @@ VecX integrate(const RobotModel& model, const VecXCRef& q, const VecXCRef& v, do
 /// v such that integrate(q1, v, dt) = q2 (quaternion-aware finite difference).
 VecX difference(const RobotModel& model, const VecXCRef& q1, const VecXCRef& q2, double dt);
 
-/// Orientation of each sole frame (x forward, z the sole normal) in its foot link frame, from the
-/// robot's zero configuration where soles are level and face +X. Updates `data`.
+/// Orientation of each sole frame (x forward, z the sole normal) in its foot link frame:
+/// Sole::R_L_S (link axes for a sole given in robot.yaml, the standing pose's face for a derived
+/// one). Leaves `data` at the zero configuration (callers rely on nothing else).
 std::array<Mat3, 2> sole_frames_in_links(const RobotModel& model, RobotData& data);
 
 /// Height [m] of the lowest corner of sole `foot` (0 left, 1 right) above the floor z = 0, at the

@@ -8,8 +8,9 @@
 ///   urdf: package://unitree_g1/g1.urdf        # required: relative to this file, absolute, or package://
 ///   package_paths: [../../../shared/data/robots]  # optional roots for package://<pkg>/ (relative to this file)
 ///   feet:                                     # required: both sides
-///     left:  {link: left_ankle_roll_link, sole: derive}   # bounding box of the link's collision
-///                                             #   geometry in the link frame: bottom z, x/y extents
+///     left:  {link: left_ankle_roll_link, sole: derive}   # the lowest flat face of the link's
+///                                             #   collision (else visual) geometry in the standing
+///                                             #   pose, any link orientation (sole_fit.hpp)
 ///     right: {link: right_ankle_roll_link, sole: {center: [0.035, 0, -0.035], size: [0.22, 0.08]}}
 ///   landmarks:                                # human landmark -> robot link (landmarks.hpp names)
 ///     pelvis:    {link: pelvis, weight: 1.0, orientation_weight: 1.0, offset: [0, 0, 0]}
@@ -17,10 +18,17 @@
 ///     right_knee: right_knee_link             # shorthand for {link: right_knee_link}
 ///                                             # orientation_weight > 0 only for pelvis, chest,
 ///                                             #   left_ankle, right_ankle (the oriented landmarks)
+///   base_orientation: {forward: -x, up: z}    # optional: the URDF root link's axes that point
+///                                             #   forward and up when the robot stands (default
+///                                             #   {forward: x, up: z}); or {rpy: [r, p, y]} [rad]:
+///                                             #   the forward-x/left-y/up-z frame in root axes
+///   joint_limits:                             # optional overrides of URDF <limit> values
+///     left_knee_joint: {velocity: 12, effort: 150}   # [rad/s] (m/s), [N m] (N); > 0
 ///   export_joints: [left_hip_pitch_joint, ...]   # optional CSV column order (default: URDF order);
 ///                                             #   must list every movable joint exactly once
 ///   standing_pose:                            # optional
-///     joints: {left_knee_joint: 0.3}          # [rad] (or m); unlisted joints are 0; within limits
+///     joints: {left_knee_joint: 0.3}          # [rad] (or m); within limits; unlisted joints are 0,
+///                                             #   or just inside the range when 0 is outside it
 ///     root_height: 0.79                       # [m] optional; default puts the soles on the floor
 ///   controller:                               # optional (tracking controller, paper eq. 2)
 ///     kp: 36                                  # [1/s^2]
@@ -32,8 +40,8 @@
 ///     joint_armature: {left_knee_joint: 0.05}
 ///     damping: 0.0                            # [N m s/rad] added to the URDF damping
 ///     friction: 1.0                           # sliding friction coefficient sole/floor
-///     hold_kp: 300                            # [N m/rad] PD gains of the simple standing hold
-///     hold_kd: 10                             # [N m s/rad]
+///     hold_kp: 300                            # [N m/rad] PD gains of the standing hold that
+///     hold_kd: 10                             # [N m s/rad]   `retarget inspect` runs (standing_hold.hpp)
 
 #include <array>
 #include <map>
@@ -49,7 +57,7 @@ namespace rt {
 /// Sole rectangle of a foot link. The sole plane is the bottom face of the foot; contact is
 /// simulated with a thin box whose bottom face is this rectangle.
 struct SoleConfig {
-  bool derive = false;     ///< derive from the link's collision geometry (bounding box) instead
+  bool derive = false;     ///< derive from the link's geometry (its lowest face, sole_fit.hpp) instead
   Vec3 p_L_center = Vec3::Zero();  ///< [m] centre of the sole's bottom face in the foot link frame
   Vec2 size_m = Vec2::Zero();      ///< [m] length along link x, width along link y
 };
@@ -93,6 +101,12 @@ struct SimulationConfig {
   double hold_kd = 10.0;   ///< [N m s/rad]
 };
 
+/// URDF limit overrides of one joint; 0 keeps the URDF value.
+struct JointLimitOverride {
+  double velocity = 0;  ///< [rad/s] or [m/s]
+  double effort = 0;    ///< [N m] or [N]
+};
+
 struct RobotConfig {
   std::string name;
   std::string config_path;  ///< the robot.yaml that was read
@@ -100,6 +114,11 @@ struct RobotConfig {
   std::vector<std::string> package_paths;  ///< resolved roots, in search order
   std::array<FootConfig, 2> feet;          ///< [0] left, [1] right
   std::vector<LandmarkTarget> landmarks;
+  /// Orientation of the pipeline's body frame F (x forward, y left, z up when the robot stands)
+  /// in URDF root-link axes: v_root = R_root_F v_F. Identity for a URDF whose root already faces
+  /// +X with +Z up. The CSV/NPZ root pose stays the URDF root link's (RobotModel converts).
+  Mat3 R_root_F = Mat3::Identity();
+  std::map<std::string, JointLimitOverride> joint_limits;
   std::vector<std::string> export_joints;  ///< empty: URDF order of movable joints
   std::map<std::string, double> standing_joints;
   std::optional<double> standing_root_height_m;
@@ -129,8 +148,8 @@ RobotConfig load_robot_config(const std::string& robot, const std::vector<std::s
 RobotConfig parse_robot_config(const std::string& yaml_text, const std::string& config_path,
                                const std::vector<std::string>& extra_package_paths = {});
 
-/// Resolves a URDF/mesh reference: "package://pkg/rel" or "package:///abs" against the package
-/// search path (a package `pkg` is the folder <root>/pkg or <root>/*/pkg), relative paths against
+/// Resolves a URDF/mesh reference: "package://pkg/rel" or "package:///pkg/rel" against the package
+/// search path (package:///abs is taken as an absolute path when that file exists) (a package `pkg` is the folder <root>/pkg or <root>/*/pkg), relative paths against
 /// `base_dir`. Returns the absolute path of an existing file, or "" when not found.
 std::string resolve_resource(const std::string& uri, const std::string& base_dir,
                              const std::vector<std::string>& package_paths);

@@ -3,7 +3,9 @@
 /// MuJoCo model we generate from it (design.md §2, §3.5). Per-evaluation state lives in RobotData
 /// (robot_data.hpp), so one RobotModel can serve many threads.
 ///
-/// Generalised coordinates follow MuJoCo: q = [p_W_root (3), quat_W_root (w x y z), joints (nu)],
+/// Generalised coordinates follow MuJoCo: q = [p_W_root (3), quat_W_root (w x y z), joints (nu)]
+/// where "root" is the root body: the URDF root link turned to face +X with +Z up by robot.yaml's
+/// base_orientation (identity by default; root_link_orientation() converts),
 /// v = [v_W_root (3, world frame), ω_root (3, root link frame), joint rates (nu)]; nq = 7 + nu,
 /// nv = 6 + nu. Joints appear in "model order" (depth-first order of the kinematic tree, which is
 /// MuJoCo's order); `export_joint_order()` maps to the CSV column order.
@@ -85,17 +87,27 @@ struct Joint {
 struct Sole {
   int link = -1;
   Vec3 p_L_center = Vec3::Zero();  ///< [m] centre of the bottom face, foot link frame
-  Vec2 size_m = Vec2::Zero();      ///< [m] length (link x), width (link y)
+  /// Sole frame S in the foot link frame: x forward (length), y left (width), z the sole normal
+  /// into the foot. Identity for a sole given in robot.yaml (link axes); a derived sole's frame
+  /// comes from the standing pose (sole_fit.hpp), so any foot-link orientation works.
+  Mat3 R_L_S = Mat3::Identity();
+  Vec2 size_m = Vec2::Zero();      ///< [m] length (sole x), width (sole y)
   int geom = -1;                   ///< MuJoCo geom id of the sole box
   /// Corners of the bottom face in the link frame (counter-clockwise seen from above).
   std::array<Vec3, 4> corners_L() const;
+};
+
+struct RobotLoadOptions {
+  /// Keep the converted collision meshes (binary STL bytes) after compiling, for write_mjcf().
+  /// Off by default: they are only needed to export the model.
+  bool keep_mjcf_assets = false;
 };
 
 class RobotModel {
  public:
   /// Builds the model: parses and validates the URDF (formats/urdf), resolves soles, generates
   /// the MJCF with converted meshes and compiles it. Throws InputError for bad input.
-  static std::unique_ptr<RobotModel> load(const RobotConfig& config);
+  static std::unique_ptr<RobotModel> load(const RobotConfig& config, const RobotLoadOptions& options = {});
   /// Convenience: load_robot_config + load.
   static std::unique_ptr<RobotModel> load(const std::string& robot,
                                           const std::vector<std::string>& extra_package_paths = {});
@@ -150,8 +162,17 @@ class RobotModel {
 
   /// MuJoCo body id of the root link (the body with the free joint).
   int root_body() const { return root_body_; }
+  /// The root body's frame is F, the forward-x/left-y/up-z frame of robot.yaml's base_orientation
+  /// (the root link's own frame when none is given): q[3..6] is F's orientation. References (CSV,
+  /// NPZ) carry the URDF root link's orientation; these convert between the two (the origins are
+  /// the same point).
+  Quat root_link_orientation(const Quat& quat_W_F) const;
+  Quat root_body_orientation(const Quat& quat_W_root) const;
   /// Link whose frame is the frame of MuJoCo body b (the link that created it), -1 for the world.
   int body_link(int body) const { return body_links_.at(static_cast<std::size_t>(body)); }
+  /// URDF link whose geometry MuJoCo geom g is (a fixed child merged into its parent's body keeps
+  /// its own name here: the foot, not the ankle body it was merged into), -1 for the floor.
+  int geom_link(int geom) const { return geom_links_.at(static_cast<std::size_t>(geom)); }
 
   /// Standing configuration (size nq): standing joints from robot.yaml, root upright at the origin
   /// facing +X, root height so the lowest sole touches z = 0 (or robot.yaml's root_height).
@@ -170,6 +191,11 @@ class RobotModel {
   /// The generated MJCF text (meshes referenced by file names of the in-memory VFS it was
   /// compiled with, so it cannot be reloaded from disk as is).
   const std::string& mjcf() const { return mjcf_; }
+  /// Writes the generated model so that MuJoCo (simulate, mj_loadXML) can load it from disk: the
+  /// MJCF at `path` and its collision meshes as mesh<k>.stl in the same folder (files of those
+  /// names are replaced). Needs RobotLoadOptions::keep_mjcf_assets when the model has meshes;
+  /// throws InputError(path) when a file cannot be written.
+  void write_mjcf(const std::string& path) const;
 
  private:
   RobotModel() = default;
@@ -190,9 +216,12 @@ class RobotModel {
   int floor_geom_ = -1;
   int root_body_ = -1;
   std::vector<int> body_links_;
+  std::vector<int> geom_links_;
   Diagnostics diagnostics_;
   mjModel* mj_ = nullptr;
   std::string mjcf_;
+  std::vector<std::pair<std::string, std::string>> mjcf_assets_;  ///< file name, bytes (if kept)
+  bool mjcf_assets_kept_ = false;
 };
 
 }  // namespace rt

@@ -21,7 +21,10 @@ class RobotModel;
 
 struct DynamicsCheckOptions {
   double control_period_s = 0.002;  ///< controller period; the simulation step is the robot's timestep (1 ms)
-  double settle_s = 0.5;            ///< [s] holding the first frame before the clip starts (not reported)
+  /// [s] holding the first frame before the clip starts. Times in the result are clip times, so a
+  /// violation or re-plan during the settle phase has a negative time (down to -settle_s): a span
+  /// "-0.434-0.660 s" began 0.434 s before the clip's first frame.
+  double settle_s = 0.5;
   bool trunk_mapping = true;        ///< paper §V-B
   bool dynamic_mapping = true;      ///< online COM re-planning (paper §VI); false for ablations
   /// Balance controller tracks the pendulum state of the reference COM motion (feed-forward,

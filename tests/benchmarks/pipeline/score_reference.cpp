@@ -51,7 +51,7 @@ int main(int argc, char** argv) {
     MatX q(model->nq(), T);
     for (int k = 0; k < T; ++k) {
       q.col(k).head<3>() = ref.root_pos_W.col(k);
-      const Quat& R = ref.root_quat_W[static_cast<std::size_t>(k)];
+      const Quat R = model->root_body_orientation(ref.root_quat_W[static_cast<std::size_t>(k)]);
       q.col(k).segment<4>(3) << R.w(), R.x(), R.y(), R.z();
       for (std::size_t c = 0; c < order.size(); ++c) q(7 + order[c], k) = ref.joint_pos(static_cast<Eigen::Index>(c), k);
     }

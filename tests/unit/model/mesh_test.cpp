@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <stdexcept>
 
 #include "formats/mesh/triangle_mesh.hpp"
 #include "retarget/core/error.hpp"
@@ -48,6 +49,41 @@ TEST(Mesh, ColladaKeepsUrdfAxesAppliesUnitAndNodeTransform) {
   EXPECT_TRUE(m.min_corner().isApprox(Vec3(-0.025, -0.025, -0.31), 1e-6)) << m.min_corner().transpose();
   EXPECT_TRUE(m.max_corner().isApprox(Vec3(0.025, 0.025, -0.01), 1e-6)) << m.max_corner().transpose();
   EXPECT_NEAR(signed_volume(m), 0.05 * 0.05 * 0.3, 1e-8);
+}
+
+// arm.dae with another <up_axis> and <unit>, written to the scratch folder.
+std::string collada_variant(const std::string& name, const std::string& up_axis, const std::string& unit) {
+  std::string text = read_file(mesh_file("arm.dae"), 1 << 20);
+  auto replace = [&](const std::string& from, const std::string& to) {
+    const auto at = text.find(from);
+    if (at == std::string::npos) throw std::runtime_error("arm.dae lacks " + from);
+    text.replace(at, from.size(), to);
+  };
+  replace("<up_axis>Z_UP</up_axis>", "<up_axis>" + up_axis + "</up_axis>");
+  replace("<unit name=\"centimeter\" meter=\"0.01\"/>", unit);
+  const std::string path = test::scratch_dir() + "/" + name;
+  write_file_atomic(path, text);
+  return path;
+}
+
+TEST(Mesh, ColladaUpAxisAndUnitAreHonoured) {
+  // The same numbers in a Y_UP file: its +Y is up, so the file's z (-31..-1 cm) becomes -y and
+  // its y becomes z.
+  const TriangleMesh y_up = load_mesh(collada_variant("arm_y_up.dae", "Y_UP", "<unit name=\"centimeter\" meter=\"0.01\"/>"));
+  EXPECT_TRUE(y_up.min_corner().isApprox(Vec3(-0.025, 0.01, -0.025), 1e-6)) << y_up.min_corner().transpose();
+  EXPECT_TRUE(y_up.max_corner().isApprox(Vec3(0.025, 0.31, 0.025), 1e-6)) << y_up.max_corner().transpose();
+  EXPECT_NEAR(signed_volume(y_up), 0.05 * 0.05 * 0.3, 1e-8);  // a rotation: normals stay outward
+
+  // X_UP: the file's +X is up.
+  const TriangleMesh x_up = load_mesh(collada_variant("arm_x_up.dae", "X_UP", "<unit name=\"centimeter\" meter=\"0.01\"/>"));
+  EXPECT_NEAR(x_up.max_corner().z() - x_up.min_corner().z(), 0.05, 1e-6);  // file x extent
+  EXPECT_NEAR(x_up.max_corner().x() - x_up.min_corner().x(), 0.05, 1e-6);
+  EXPECT_NEAR(x_up.max_corner().y() - x_up.min_corner().y(), 0.30, 1e-6);  // file z extent
+  EXPECT_NEAR(signed_volume(x_up), 0.05 * 0.05 * 0.3, 1e-8);
+
+  // Millimetres, Z_UP: the numbers are read as mm.
+  const TriangleMesh mm = load_mesh(collada_variant("arm_mm.dae", "Z_UP", "<unit name=\"millimeter\" meter=\"0.001\"/>"));
+  EXPECT_TRUE(mm.min_corner().isApprox(Vec3(-0.0025, -0.0025, -0.031), 1e-6)) << mm.min_corner().transpose();
 }
 
 TEST(Mesh, ScaleIsBakedAndMirroringKeepsNormalsOutward) {

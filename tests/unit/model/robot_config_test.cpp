@@ -85,7 +85,7 @@ TEST(RobotConfig, SchemaErrorsNameFileLineAndKeyPath) {
   ::unsetenv("ROS_PACKAGE_PATH");  // the expected messages list the search path
   const std::string base = kBase;
   expect_config_error(base + "feat: 1\n", 7,
-                      "feat: unknown key (allowed: name, urdf, package_paths, feet, landmarks, export_joints, "
+                      "feat: unknown key (allowed: name, urdf, package_paths, feet, landmarks, base_orientation, joint_limits, export_joints, "
                       "standing_pose, controller, simulation)");
   expect_config_error("name: t\nurdf: mini_biped.urdf\nfeet:\n  left: {lnk: left_foot, sole: derive}\n", 4,
                       "feet.left.lnk: unknown key (allowed: link, sole)");
@@ -161,7 +161,7 @@ TEST(RobotConfig, UnknownLinksAndJointsAreReportedAtTheirYamlLine) {
   // A foot link without collision geometry cannot derive its sole.
   expect_model_error("name: t\nurdf: mini_biped.urdf\npackage_paths: [..]\nfeet:\n  left:  {link: imu, sole: derive}\n"
                      "  right: {link: right_foot, sole: derive}\n",
-                     5, "feet.left.sole: cannot derive the sole: link 'imu' has no collision geometry (give {center: "
+                     5, "feet.left.sole: cannot derive the sole: link 'imu' has no collision or visual geometry (give {center: "
                         "[x, y, z], size: [length, width]})");
 }
 

@@ -293,6 +293,12 @@ TEST(PackageUri, ResolutionRules) {
   EXPECT_EQ(resolve_package_uri("package://mini_biped/meshes/torso.stl", "", {"/nonexistent", root}).path, expected);
   // package:///abs and file:///abs
   EXPECT_EQ(resolve_package_uri("package://" + expected, "", {}).path, expected);
+  // package:///pkg/rel (empty authority) is package://pkg/rel, one level down too.
+  EXPECT_EQ(resolve_package_uri("package:///mini_biped/meshes/torso.stl", "", {root}).path, expected);
+  EXPECT_EQ(resolve_package_uri("package:///meshes/torso.stl", "", {root}).path, expected);
+  const auto triple_missing = resolve_package_uri("package:///mini_biped/meshes/nope.stl", "", {root});
+  EXPECT_NE(triple_missing.error.find("package 'mini_biped' exists but has no 'meshes/nope.stl'"), std::string::npos)
+      << triple_missing.error;
   EXPECT_EQ(resolve_package_uri("file://" + expected, "", {}).path, expected);
   // Relative to the base folder.
   EXPECT_EQ(resolve_package_uri("meshes/torso.stl", root + "/mini_biped", {}).path, expected);
