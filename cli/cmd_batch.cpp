@@ -130,6 +130,7 @@ Command setup_batch(CLI::App& parent) {
   // Convert flags forwarded to every worker (a manifest's per-clip values override them).
   const std::string g = "Convert options (for every clip)";
   app->add_option("--format", o->formats, "Output formats, comma-separated: csv, npz")->default_val("csv")->group(g);
+  app->add_option("--npz-layout", b.convert.npz_layout, "NPZ body and joint order: urdf, mjcf:FILE or names:FILE")->group(g);
   app->add_option("--fps", b.convert.fps, "Output frame rate [Hz]")->default_val(30.0)->check(CLI::PositiveNumber)->group(g);
   app->add_option("--passes", b.convert.passes, "Pipeline to run instead of the default")->group(g);
   for (const PassInfo& info : builtin_passes())
@@ -160,6 +161,10 @@ Command setup_batch(CLI::App& parent) {
   return {app, [o] {
             BatchOptions& b = o->batch;
             b.convert.formats = parse_reference_formats(o->formats);
+            // A layout file relative to here must still be found by the workers.
+            if (const auto colon = b.convert.npz_layout.find(':'); colon != std::string::npos)
+              b.convert.npz_layout = b.convert.npz_layout.substr(0, colon + 1) +
+                                     std::filesystem::absolute(b.convert.npz_layout.substr(colon + 1)).lexically_normal().string();
             b.convert.disabled_passes = o->disabled;
             b.convert.enabled_passes = o->enabled;
             if (!o->source_units.empty()) b.convert.source_units = o->source_units;

@@ -112,6 +112,9 @@ Command setup_convert(CLI::App& parent) {
   app->add_option("-o,--output", o->request.output,
                   "Output stem, .csv/.npz file or folder (default: out/<clip name>); meta.json goes beside it");
   app->add_option("--format", o->formats, "Output formats, comma-separated: csv, npz")->default_val("csv");
+  app->add_option("--npz-layout", o->request.npz_layout,
+                  "NPZ body and joint order: urdf, mjcf:FILE (a simulator's MJCF order) or names:FILE "
+                  "(default: the robot's robot.yaml npz_layout, else urdf)");
   app->add_option("--fps", o->request.fps, "Output frame rate [Hz]")->default_val(30.0)->check(CLI::PositiveNumber);
   app->add_option("--passes", o->request.passes,
                   "Pipeline to run instead of the default, e.g. 'scale,ik{max_iterations=80},label-contacts,resample'");

@@ -22,6 +22,7 @@ struct ValidateOptions {
   std::string robot;
   std::vector<std::string> package_paths;
   double fps = 0;
+  std::string joint_order;
   std::string report_dir;
   bool json = false;
   bool no_dynamic_mapping = false;
@@ -38,6 +39,8 @@ Command setup_validate(CLI::App& parent) {
   app->add_option("reference", o->reference, "Reference: our CSV (+ meta.json) or NPZ, or a plain Unitree-layout CSV")->required();
   app->add_option("--robot", o->robot, "Robot: a name in robots/, a folder or a robot.yaml")->default_val("humanoid25");
   app->add_option("--fps", o->fps, "Frame rate [Hz] of a plain CSV without meta.json")->check(CLI::PositiveNumber);
+  app->add_option("--joint-order", o->joint_order,
+                  "Joint order of an NPZ without joint_names: an MJCF (.xml) or a YAML list of joint names");
   app->add_option("--report", o->report_dir, "Write report.json and SVG plots into this folder");
   app->add_flag("--json", o->json, "Print the report as JSON instead of the text summary");
   app->add_flag("--no-dynamic-mapping", o->no_dynamic_mapping, "Turn off online COM re-planning (ablation)");
@@ -51,11 +54,12 @@ Command setup_validate(CLI::App& parent) {
             ValidateRequest request;
             request.reference_path = o->reference;
             request.fps = o->fps;
+            request.joint_order_path = o->joint_order;
             request.check = default_check_options(*model);
             request.check.dynamic_mapping = !o->no_dynamic_mapping;
             request.check.trunk_mapping = !o->no_trunk_mapping;
             if (o->find_speed) {
-              const Reference ref = read_reference_for(*model, o->reference, o->fps);
+              const Reference ref = read_reference_for(*model, o->reference, o->fps, o->joint_order);
               const SpeedSearchResult s = find_feasible_speed(ref, *model, request);
               std::cout << format("%s on %s: ", o->reference.c_str(), model->name().c_str());
               if (!s.feasible)

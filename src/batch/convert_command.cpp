@@ -36,6 +36,7 @@ std::vector<std::string> convert_arguments(const BatchClip& clip, const ConvertS
   // and never mistakes it for a folder (a folder of the same name may exist for sub-folder clips).
   std::vector<std::string> a = {"convert", clip.input, "--robot", robot, "-o", output_stem + ".csv",
                                 "--format", format_list(s.formats)};
+  if (!s.npz_layout.empty()) a.insert(a.end(), {"--npz-layout", s.npz_layout});
   if (s.fps != 30.0) a.insert(a.end(), {"--fps", number(s.fps)});
   if (!s.passes.empty()) a.insert(a.end(), {"--passes", s.passes});
   for (const std::string& p : s.disabled_passes) a.push_back("--no-" + p);
@@ -58,6 +59,7 @@ ConvertRequest convert_request_for(const BatchClip& clip, const ConvertSettings&
   r.clip_path = clip.input;
   r.output = output_stem + ".csv";
   r.formats = s.formats;
+  r.npz_layout = s.npz_layout;
   r.fps = s.fps;
   r.time_scale = s.time_scale;
   r.max_joint_speed = s.max_joint_speed;

@@ -9,6 +9,7 @@
 #include "retarget/core/sha256.hpp"
 #include "retarget/core/strings.hpp"
 #include "retarget/core/version.hpp"
+#include "retarget/reference/npz_layout.hpp"
 #include "retarget/reference/robot_mapping.hpp"
 #include "retarget/model/robot_model.hpp"
 #include "retarget/passes/registry.hpp"
@@ -82,6 +83,11 @@ Pipeline make_pipeline(const ConvertRequest& request) {
   return pipeline;
 }
 
+NpzLayout npz_layout_for(const ConvertRequest& request, const RobotModel& model) {
+  if (!request.npz_layout.empty()) return resolve_npz_layout(model, request.npz_layout, "--npz-layout");
+  return resolve_npz_layout(model, model.config().npz_layout, model.config().where("npz_layout"));
+}
+
 std::string provenance_json(const ConvertRequest& request, const ConvertResult& r, const RobotModel& model) {
   const MotionSourceInfo& src = r.clip.human.source;
   nlohmann::json j;
@@ -100,6 +106,8 @@ std::string provenance_json(const ConvertRequest& request, const ConvertResult& 
                  {"floor_height_m", src.floor_height_m}};
   j["robot_config"] = {{"path", model.config().config_path}, {"sha256", sha256_file(model.config().config_path)}};
   j["urdf_sha256"] = sha256_file(model.config().urdf_path);
+  if (std::find(request.formats.begin(), request.formats.end(), ReferenceFormat::Npz) != request.formats.end())
+    j["npz_layout"] = request.npz_layout.empty() ? model.config().npz_layout : request.npz_layout;
   j["pipeline"] = r.pipeline;
   j["options_sha256"] = convert_options_sha256(request);
   nlohmann::json passes = nlohmann::json::array();
@@ -134,6 +142,13 @@ std::string convert_options_sha256(const ConvertRequest& request) {
   text += "formats";
   for (ReferenceFormat f : request.formats) text += std::string(" ") + reference_format_name(f);
   text += "\n";
+  // The layout by its content: the same file edited gives other outputs.
+  if (!request.npz_layout.empty()) {
+    const auto colon = request.npz_layout.find(':');
+    text += "npz_layout " + (colon == std::string::npos ? request.npz_layout
+                                                         : request.npz_layout.substr(0, colon) + ":" +
+                                                               sha256_file(request.npz_layout.substr(colon + 1))) + "\n";
+  }
   text += "source_units " + (m.source_units ? "=" + *m.source_units : std::string("auto")) + "\n";
   text += "source_fps " + (m.source_fps ? format("=%.17g", *m.source_fps) : std::string("auto")) + "\n";
   text += "up_axis " + (m.up_axis ? "=" + *m.up_axis : std::string("auto")) + "\n";
@@ -170,7 +185,7 @@ ConvertResult run_convert(const ConvertRequest& request, const RobotModel& model
     }
     const bool npz = std::find(request.formats.begin(), request.formats.end(), ReferenceFormat::Npz) != request.formats.end();
     NpzBodyArrays bodies;
-    if (npz) bodies = compute_body_arrays(model, data, r.clip.reference);
+    if (npz) bodies = compute_body_arrays(model, data, r.clip.reference, npz_layout_for(request, model));
     r.written = write_reference(r.output_stem, r.clip.reference, request.formats, npz ? &bodies : nullptr);
   }
   r.total_ms = ms_since(t0);

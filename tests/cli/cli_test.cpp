@@ -5,11 +5,13 @@
 
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include "formats/reference/npz_file.hpp"
 #include "retarget/core/file_io.hpp"
 #include "retarget/report/check_report.hpp"
 #include "support/test_paths.hpp"
@@ -99,6 +101,59 @@ TEST(Cli, ConvertThenValidateWithReport) {
 }
 
 // Bad references for validate (issue 5): each a one-line error and exit 2.
+// The NPZ's body axis and joint columns in the simulator's order (--npz-layout, robot.yaml
+// npz_layout), and validate refusing an NPZ that does not name its joints unless told the order.
+TEST(Cli, NpzLayoutsAndValidateJointOrder) {
+  RT_REQUIRE_SHARED(mjlab, "robots/unitree_g1/mjlab/g1.xml");
+  const std::string dir = test::scratch_dir();
+  const std::string clip = "'" + test::source_path("examples/clips/foot_lift.bvh") + "'";
+  const std::string g1 = " --robot '" + test::source_path("robots/g1") + "'";
+  const auto bodies = [&](const std::string& npz) {
+    const npz::NpzFile f = npz::read_npz(dir + "/" + npz);
+    return f.find("body_names")->to_strings();
+  };
+  CliRun r = run(dir, "convert " + clip + g1 + " -o default.npz --format npz");
+  ASSERT_EQ(r.status, 0) << r.err;
+  // Exactly the keys README "Files out" lists as always written.
+  std::vector<std::string> keys;
+  for (const npz::NamedArray& a : npz::read_npz(dir + "/default.npz").arrays) keys.push_back(a.key);
+  std::sort(keys.begin(), keys.end());
+  EXPECT_EQ(keys, (std::vector<std::string>{"body_ang_vel_w", "body_lin_vel_w", "body_names", "body_pos_w", "body_quat_w",
+                                            "contacts", "fps", "joint_names", "joint_pos", "joint_vel", "root_pos_w",
+                                            "root_quat_w"}));
+  const std::vector<std::string> mj = bodies("default.npz");  // G1's default: mjlab's order
+  ASSERT_EQ(mj.size(), 30u);
+  EXPECT_EQ(mj[0], "pelvis");
+  EXPECT_EQ(mj[15], "torso_link");
+  EXPECT_NE(read_file(dir + "/default.meta.json").find("\"npz_layout\": \"names:"), std::string::npos);
+  r = run(dir, "convert " + clip + g1 + " -o mjcf.npz --format npz --npz-layout 'mjcf:" + mjlab + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(bodies("mjcf.npz"), mj);
+  r = run(dir, "convert " + clip + g1 + " -o urdf.npz --format npz --npz-layout urdf");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(bodies("urdf.npz").size(), 39u);
+  EXPECT_EQ(bodies("urdf.npz")[1], "pelvis_contour_link");
+  r = run(dir, "convert " + clip + g1 + " -o x.npz --format npz --npz-layout isaac");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("--npz-layout"), std::string::npos) << r.err;
+
+  // As BeyondMimic writes it: no joint_names (and no meta.json beside it).
+  npz::NpzFile f = npz::read_npz(dir + "/default.npz");
+  std::vector<npz::NamedArray> bare;
+  for (const npz::NamedArray& a : f.arrays)
+    if (a.key != "joint_names") bare.push_back(a);
+  write_file_atomic(dir + "/bare.npz", npz::encode_npz(bare));
+  r = run(dir, "validate bare.npz" + g1);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("bare.npz [joint_names.npy]"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--joint-order"), std::string::npos) << r.err;
+  r = run(dir, "validate bare.npz" + g1 + " --joint-order '" + mjlab + "'");
+  EXPECT_TRUE(r.status == 0 || r.status == 1) << r.status << " " << r.err;
+  EXPECT_NE(r.out.find("bare.npz"), std::string::npos) << r.out;
+}
+
 TEST(Cli, ValidateRejectsBadReferences) {
   const std::string dir = test::scratch_dir();
   const std::string robot = "--robot '" + test::source_path("robots/humanoid25") + "'";

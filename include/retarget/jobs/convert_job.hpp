@@ -17,6 +17,9 @@ struct ConvertRequest {
   std::string clip_path;
   std::string output;                  ///< output stem, file (.csv/.npz) or folder; "" = out/<clip stem>
   std::vector<ReferenceFormat> formats{ReferenceFormat::Csv};
+  /// NPZ body/joint order (npz_layout.hpp: urdf, mjcf:FILE, names:FILE); "" = the robot's
+  /// robot.yaml `npz_layout` (default urdf). Only read when the formats include npz.
+  std::string npz_layout;
   double fps = 30.0;                   ///< [Hz] output rate (the resample pass's `fps`)
   double time_scale = 1.0;             ///< the retime pass's `time_scale` (> 1 slows the clip)
   double max_joint_speed = 0;          ///< [rad/s] the refine pass's `max_joint_speed` (0: the URDF limits only)

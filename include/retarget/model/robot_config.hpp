@@ -19,6 +19,9 @@
 ///                                             #   left_ankle, right_ankle (the oriented landmarks)
 ///   export_joints: [left_hip_pitch_joint, ...]   # optional CSV column order (default: URDF order);
 ///                                             #   must list every movable joint exactly once
+///   npz_layout: names:mjlab_order.yaml         # optional body/joint order of the NPZ: urdf (default),
+///                                             #   mjcf:FILE or names:FILE (npz_layout.hpp); FILE
+///                                             #   relative to this file, absolute or package://
 ///   standing_pose:                            # optional
 ///     joints: {left_knee_joint: 0.3}          # [rad] (or m); unlisted joints are 0; within limits
 ///     root_height: 0.79                       # [m] optional; default puts the soles on the floor
@@ -101,6 +104,9 @@ struct RobotConfig {
   std::array<FootConfig, 2> feet;          ///< [0] left, [1] right
   std::vector<LandmarkTarget> landmarks;
   std::vector<std::string> export_joints;  ///< empty: URDF order of movable joints
+  /// NPZ body/joint order: "urdf", or "mjcf:<absolute path>" / "names:<absolute path>"
+  /// (resolved when the config is read; npz_layout.hpp interprets it).
+  std::string npz_layout = "urdf";
   std::map<std::string, double> standing_joints;
   std::optional<double> standing_root_height_m;
   ControllerConfig controller;
