@@ -158,8 +158,9 @@ Command setup_batch(CLI::App& parent) {
       "plus summary.json, summary.csv and index.html (summary-shard-I-of-N.* and index-shard-I-of-N.html with --shard).\n"
       "Exit status: 0 every clip ok or up to date; 1 some clip failed its check; 2 some clip had bad input or failed\n"
       "otherwise (crashed, timeout, out of memory, ...) -- 2 takes precedence over 1; 128+N when stopped by signal N.");
-  return {app, [o] {
+  return {app, [o, app] {
             BatchOptions& b = o->batch;
+            if (app->count("--robot") == 0) std::cerr << "robot: " << b.robot << " (default; pass --robot)\n";
             b.convert.formats = parse_reference_formats(o->formats);
             // A layout file relative to here must still be found by the workers.
             if (const auto colon = b.convert.npz_layout.find(':'); colon != std::string::npos)

@@ -9,7 +9,9 @@
 #include "cli/command.hpp"
 #include "cli/exit_codes.hpp"
 #include "cli/print_check.hpp"
+#include "cli/progress_line.hpp"
 #include "retarget/core/error.hpp"
+#include "retarget/core/file_io.hpp"
 #include "retarget/jobs/validate_job.hpp"
 #include "retarget/model/robot_model.hpp"
 
@@ -49,7 +51,8 @@ Command setup_validate(CLI::App& parent) {
                 "Search (bisection over the time scale) for the fastest playback at which the check passes");
   app->add_option("--package-path", o->package_paths, "Extra root folder for package:// URIs (repeatable)");
   app->footer("Exit status: 0 the check passed, 1 it failed (fall or unmet contact), 2 bad input.");
-  return {app, [o] {
+  return {app, [o, app] {
+            if (app->count("--robot") == 0) std::cerr << "robot: " << o->robot << " (default; pass --robot)\n";
             const auto model = RobotModel::load(o->robot, o->package_paths);
             ValidateRequest request;
             request.reference_path = o->reference;
@@ -72,7 +75,10 @@ Command setup_validate(CLI::App& parent) {
               std::cout << "\n";
               return s.passes_at_1x ? kExitOk : kExitCheckFailed;
             }
+            ProgressLine progress;
+            progress.set("checking " + base_name(o->reference));
             const ValidateResult r = run_validate(request, *model);
+            progress.stop();
             return report_check(*model, r, request.check, o->reference, o->report_dir, o->json);
           }};
 }

@@ -124,6 +124,26 @@ std::string provenance_json(const ConvertRequest& request, const ConvertResult& 
 
 }  // namespace
 
+std::vector<ReferenceFormat> output_formats_for(const std::string& output,
+                                                const std::optional<std::vector<ReferenceFormat>>& formats) {
+  const std::vector<ReferenceFormat> listed = formats ? *formats : std::vector<ReferenceFormat>{ReferenceFormat::Csv};
+  std::error_code ec;
+  if (output.empty() || ends_with(output, "/") || fs::is_directory(output, ec)) return listed;
+  const std::string ext = to_lower(fs::path(output).extension().string());
+  if (ext.empty()) return listed;
+  std::optional<ReferenceFormat> by_name;
+  if (ext == ".csv") by_name = ReferenceFormat::Csv;
+  if (ext == ".npz") by_name = ReferenceFormat::Npz;
+  if (!by_name)
+    throw InputError("-o " + output, "'" + ext + "' is not an output format: give a .csv or .npz file, a folder, "
+                                                  "or a name without an extension (with --format csv,npz)");
+  if (!formats) return {*by_name};
+  if (std::find(formats->begin(), formats->end(), *by_name) == formats->end())
+    throw InputError("-o " + output, std::string("the extension asks for ") + reference_format_name(*by_name) +
+                                         " but --format does not include it");
+  return *formats;
+}
+
 std::string output_stem_for(const ConvertRequest& request) {
   const std::string stem = fs::path(request.clip_path).stem().string();
   if (request.output.empty()) return (fs::path("out") / stem).string();
@@ -169,7 +189,7 @@ ConvertResult run_convert(const ConvertRequest& request, const RobotModel& model
   Pipeline pipeline = make_pipeline(request);
   r.pipeline = pipeline.to_string();
   RobotData data(model);
-  r.passes = pipeline.run(r.clip, &model, &data);
+  r.passes = pipeline.run(r.clip, &model, &data, request.on_pass);
   if (r.clip.motion.num_frames() > 0) r.quality = compute_quality(model, data, r.clip);
 
   r.output_stem = output_stem_for(request);

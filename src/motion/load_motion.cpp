@@ -6,6 +6,7 @@
 #include "retarget/core/strings.hpp"
 #include "retarget/motion/bvh/bvh_motion.hpp"
 #include "retarget/motion/c3d/c3d_motion.hpp"
+#include "retarget/motion/source_checks.hpp"
 
 namespace rt {
 
@@ -36,12 +37,22 @@ Kind sniff(const std::string& path) {
 }  // namespace
 
 HumanMotion load_motion(const std::string& path, const MotionLoadOptions& options) {
+  HumanMotion m;
   switch (sniff(path)) {
-    case Kind::Bvh: return load_bvh_motion(path, options);
-    case Kind::C3d: return load_c3d_motion(path, options);
-    case Kind::Unknown: break;
+    case Kind::Bvh: m = load_bvh_motion(path, options); break;
+    case Kind::C3d: m = load_c3d_motion(path, options); break;
+    case Kind::Unknown:
+      throw InputError(path, "unsupported motion file: expected a BVH (starts with HIERARCHY) or a C3D file");
   }
-  throw InputError(path, "unsupported motion file: expected a BVH (starts with HIERARCHY) or a C3D file");
+  if (!options.allow_implausible_stature) check_stature(m);
+  if (!options.source_fps) {
+    const RepeatedFrames r = find_repeated_frames(m);
+    if (r.run_length > 0)
+      m.diagnostics.warn(path, format("%d of %d frames repeat the previous one (runs of %d): the data looks like %g Hz, "
+                                      "not the %g Hz the file states; if so, pass --source-fps %g",
+                                      r.repeated, m.num_frames, r.run_length, r.data_fps, m.fps, r.data_fps));
+  }
+  return m;
 }
 
 }  // namespace rt

@@ -154,6 +154,80 @@ TEST(Cli, NpzLayoutsAndValidateJointOrder) {
   EXPECT_NE(r.out.find("bare.npz"), std::string::npos) << r.out;
 }
 
+TEST(Cli, OutputExtensionSelectsTheFormat) {
+  const std::string dir = test::scratch_dir();
+  const std::string clip = "'" + test::source_path("examples/clips/foot_lift.bvh") + "'";
+  CliRun r = run(dir, "convert " + clip + " -o refs/walk.npz");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(dir + "/refs/walk.npz"));
+  EXPECT_FALSE(std::filesystem::exists(dir + "/refs/walk.csv"));
+  // The default robot is announced.
+  EXPECT_NE(r.err.find("robot: humanoid25 (default; pass --robot)"), std::string::npos) << r.err;
+  r = run(dir, "convert " + clip + " -o refs/b.CSV --robot humanoid25");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(dir + "/refs/b.csv") || std::filesystem::exists(dir + "/refs/b.CSV"));
+  EXPECT_EQ(r.err.find("(default; pass --robot)"), std::string::npos) << r.err;
+  r = run(dir, "convert " + clip + " -o refs/both.npz --format csv,npz");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(dir + "/refs/both.csv") && std::filesystem::exists(dir + "/refs/both.npz"));
+  for (const std::string& bad : {std::string("-o x.pkl"), std::string("-o x.npz --format csv")}) {
+    r = run(dir, "convert " + clip + " " + bad);
+    EXPECT_EQ(r.status, 2) << bad;
+    EXPECT_EQ(lines(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("error: -o x."), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir + "/x.pkl.csv"));
+  }
+}
+
+TEST(Cli, GuardsForUnitsFrameRateAndTypos) {
+  const std::string dir = test::scratch_dir();
+  const std::string clip_path = test::source_path("examples/clips/foot_lift.bvh");
+  const std::string clip = "'" + clip_path + "' --robot humanoid25";
+  // A cm clip read as metres: a 164 m person is an error, not a warning.
+  CliRun r = run(dir, "convert " + clip + " --source-units m");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("implausible stature 164 m with units m (from --source-units)"), std::string::npos) << r.err;
+  r = run(dir, "convert " + clip + " --source-units m --force -o forced");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("implausible stature"), std::string::npos) << r.err;  // still said, as a warning
+
+  // Every frame twice and the rate doubled: the data says half the stated rate.
+  std::string text = read_file(clip_path);
+  const std::size_t motion = text.find("Frame Time:");
+  ASSERT_NE(motion, std::string::npos);
+  const std::size_t rows = text.find('\n', motion) + 1;
+  std::string doubled = text.substr(0, rows);
+  std::istringstream in(text.substr(rows));
+  int frames = 0;
+  for (std::string row; std::getline(in, row);)
+    if (!row.empty()) doubled += row + "\n" + row + "\n", ++frames;
+  const std::size_t count = doubled.find("Frames:");
+  doubled.replace(count, doubled.find('\n', count) - count, "Frames: " + std::to_string(2 * frames));
+  const std::size_t time = doubled.find("Frame Time:");
+  doubled.replace(time, doubled.find('\n', time) - time, "Frame Time: 0.00833333");
+  write(dir + "/doubled.bvh", doubled);
+  r = run(dir, "convert doubled.bvh --robot humanoid25");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("the data looks like 60 Hz, not the 120 Hz the file states; if so, pass --source-fps 60"),
+            std::string::npos)
+      << r.err;
+  r = run(dir, "convert doubled.bvh --robot humanoid25 --source-fps 120");
+  EXPECT_EQ(r.err.find("--source-fps 60"), std::string::npos) << r.err;
+
+  // Mistyped options get the closest real one.
+  r = run(dir, "convert " + clip + " --robto g1");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("unknown option '--robto' (did you mean '--robot'?)"), std::string::npos) << r.err;
+  r = run(dir, "validate x.csv --jont-order=a.xml");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("unknown option '--jont-order' (did you mean '--joint-order'?)"), std::string::npos) << r.err;
+  r = run(dir, "convert " + clip + " --zzzzzz");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("unknown option '--zzzzzz'"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("did you mean"), std::string::npos) << r.err;
+}
+
 TEST(Cli, ValidateRejectsBadReferences) {
   const std::string dir = test::scratch_dir();
   const std::string robot = "--robot '" + test::source_path("robots/humanoid25") + "'";

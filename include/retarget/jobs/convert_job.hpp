@@ -3,6 +3,7 @@
 /// motion, run the pass pipeline, measure quality (design.md §6) and write the requested formats
 /// plus meta.json atomically. The CLI and the batch workers call this; it never prints.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,8 @@ struct ConvertRequest {
   std::vector<std::string> enabled_passes;   ///< --<pass> for a pass not in the default pipeline
   MotionLoadOptions motion;
   bool write_outputs = true;           ///< false: run and measure only (benchmarks, tests)
+  /// Called before each pass (Pipeline::PassStarted); the CLI's progress line. Not hashed.
+  Pipeline::PassStarted on_pass;
 };
 
 struct ConvertResult {
@@ -39,6 +42,14 @@ struct ConvertResult {
   std::vector<std::string> written;    ///< files written, meta.json last
   double load_ms = 0, total_ms = 0;
 };
+
+/// The formats to write for `-o OUTPUT` and `--format` (nullopt when not given): an OUTPUT ending
+/// in .csv or .npz selects that format when no --format is given and must be one of the --format
+/// list when one is; any other extension on OUTPUT is an InputError ("-o x.pkl" is not silently
+/// written as x.pkl.csv). A folder (existing, or ending in '/') or a stem without an extension
+/// takes the --format list (default csv).
+std::vector<ReferenceFormat> output_formats_for(const std::string& output,
+                                                const std::optional<std::vector<ReferenceFormat>>& formats);
 
 /// Output stem for a request ("out/walk" for clip "mocap/walk.bvh" and no -o).
 std::string output_stem_for(const ConvertRequest& request);

@@ -25,6 +25,9 @@ struct MotionLoadOptions {
   /// [s] C3D gaps up to this long are filled by interpolation; longer gaps stay Missing.
   double max_gap_s = 0.25;
   NormalizeOptions normalize;
+  /// Load a clip whose estimated stature is implausible (source_checks.hpp) instead of refusing
+  /// it (`--force`; `inspect` always does, to show what was read).
+  bool allow_implausible_stature = false;
 };
 
 /// Metres per unit for a units name or number ("cm" -> 0.01, "0.05" -> 0.05). Throws InputError
@@ -39,7 +42,9 @@ std::string units_name(double metres_per_unit);
 std::pair<char, bool> parse_up_axis(const std::string& text);
 
 /// Loads a BVH or C3D file (chosen by content, then extension). Throws InputError with a location
-/// for malformed input and for sources whose skeleton / marker set cannot be recognised.
+/// for malformed input, for sources whose skeleton / marker set cannot be recognised, and for an
+/// implausible stature (wrong units; unless allow_implausible_stature). Warns when the frames
+/// repeat in a regular pattern (a wrong frame rate; unless source_fps is given).
 HumanMotion load_motion(const std::string& path, const MotionLoadOptions& options = {});
 
 }  // namespace rt
