@@ -108,8 +108,8 @@ void print_summary(const ConvertResult& r, bool verbose) {
 
 Command setup_convert(CLI::App& parent) {
   auto o = std::make_shared<ConvertOptions>();
-  CLI::App* app = parent.add_subcommand("convert", "Retarget a BVH or C3D clip to a robot and write the reference");
-  app->add_option("clip", o->request.clip_path, "Motion capture file (.bvh or .c3d)");
+  CLI::App* app = parent.add_subcommand("convert", "Retarget a BVH, C3D or ASF/AMC clip to a robot and write the reference");
+  app->add_option("clip", o->request.clip_path, "Motion capture file (.bvh, .c3d or .amc)");
   app->add_option("--robot", o->robot, "Robot: a name in robots/, a folder or a robot.yaml")->default_val("humanoid25");
   app->add_option("-o,--output", o->request.output,
                   "Output stem, .csv/.npz file or folder (default: out/<clip name>); meta.json goes beside it");
@@ -132,6 +132,8 @@ Command setup_convert(CLI::App& parent) {
   app->add_option("--source-units", o->source_units, "Override the detected source units: m, cm, mm, inch, cmu or metres per unit");
   app->add_option("--source-fps", o->source_fps, "Override the source frame rate [Hz]")->check(CLI::PositiveNumber);
   app->add_option("--up-axis", o->up_axis, "Override the detected source up axis: x, y, z (optionally -y, ...)");
+  app->add_option("--asf", o->request.motion.asf_path,
+                  "ASF skeleton of an AMC clip (default: found beside it, CMU naming 01_01.amc -> 01.asf)");
   app->add_option("--skeleton-profile,--marker-map", o->request.motion.profile_path,
                   "YAML mapping landmarks to BVH joint names or C3D markers (README: Motion input)");
   app->add_flag("--force", o->force,

@@ -173,6 +173,7 @@ std::string convert_options_sha256(const ConvertRequest& request) {
   text += "source_fps " + (m.source_fps ? format("=%.17g", *m.source_fps) : std::string("auto")) + "\n";
   text += "up_axis " + (m.up_axis ? "=" + *m.up_axis : std::string("auto")) + "\n";
   text += "profile " + (m.profile_path.empty() ? std::string("none") : sha256_file(m.profile_path)) + "\n";
+  if (!m.asf_path.empty()) text += "asf " + sha256_file(m.asf_path) + "\n";
   text += format("drop_tpose %d\nmax_gap_s %.17g\n", m.drop_tpose ? 1 : 0, m.max_gap_s);
   text += format("normalize %d %d %.17g\n", m.normalize.align_start ? 1 : 0, m.normalize.move_floor_to_zero ? 1 : 0,
                  m.normalize.floor_percentile);

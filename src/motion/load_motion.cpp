@@ -4,6 +4,7 @@
 
 #include "retarget/core/error.hpp"
 #include "retarget/core/strings.hpp"
+#include "retarget/motion/asf/asf_motion.hpp"
 #include "retarget/motion/bvh/bvh_motion.hpp"
 #include "retarget/motion/c3d/c3d_motion.hpp"
 #include "retarget/motion/source_checks.hpp"
@@ -12,14 +13,14 @@ namespace rt {
 
 namespace {
 
-enum class Kind { Bvh, C3d, Unknown };
+enum class Kind { Bvh, C3d, Amc, Asf, Unknown };
 
 // By content first (a C3D header has 0x50 in its second byte; a BVH starts with HIERARCHY), so a
 // misnamed file is still read correctly; then by extension.
 Kind sniff(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, "cannot open");
-  char head[64] = {};
+  char head[512] = {};
   in.read(head, sizeof head);
   const std::size_t n = static_cast<std::size_t>(in.gcount());
   std::string_view text(head, n);
@@ -27,10 +28,17 @@ Kind sniff(const std::string& path) {
       static_cast<unsigned char>(head[2]) == 0xBF)
     text.remove_prefix(3);  // UTF-8 byte-order mark
   if (starts_with(trim(text), "HIERARCHY")) return Kind::Bvh;
+  // AMC and ASF start with '#' comments or their first keyword.
+  const std::string lower_head = to_lower(std::string(text));
+  if (lower_head.find(":fully-specified") != std::string::npos || lower_head.find(":degrees") != std::string::npos)
+    return Kind::Amc;
+  if (lower_head.find(":version") != std::string::npos || lower_head.find(":bonedata") != std::string::npos) return Kind::Asf;
   if (n >= 2 && static_cast<unsigned char>(head[1]) == 0x50) return Kind::C3d;
   const std::string lower = to_lower(path);
   if (ends_with(lower, ".bvh")) return Kind::Bvh;
   if (ends_with(lower, ".c3d")) return Kind::C3d;
+  if (ends_with(lower, ".amc")) return Kind::Amc;
+  if (ends_with(lower, ".asf")) return Kind::Asf;
   return Kind::Unknown;
 }
 
@@ -41,8 +49,11 @@ HumanMotion load_motion(const std::string& path, const MotionLoadOptions& option
   switch (sniff(path)) {
     case Kind::Bvh: m = load_bvh_motion(path, options); break;
     case Kind::C3d: m = load_c3d_motion(path, options); break;
+    case Kind::Amc: m = load_asf_amc_motion(path, options); break;
+    case Kind::Asf:
+      throw InputError(path, "this is an ASF skeleton: give the AMC motion file (its ASF is found beside it, or with --asf)");
     case Kind::Unknown:
-      throw InputError(path, "unsupported motion file: expected a BVH (starts with HIERARCHY) or a C3D file");
+      throw InputError(path, "unsupported motion file: expected a BVH (starts with HIERARCHY), a C3D or an AMC file (FBX is not read)");
   }
   if (!options.allow_implausible_stature) check_stature(m);
   if (!options.source_fps) {

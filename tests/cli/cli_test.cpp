@@ -228,6 +228,32 @@ TEST(Cli, GuardsForUnitsFrameRateAndTypos) {
   EXPECT_EQ(r.err.find("did you mean"), std::string::npos) << r.err;
 }
 
+TEST(Cli, AsfAmcConvertsAndBadFilesExit2) {
+  const std::string dir = test::scratch_dir();
+  const std::string bad = test::source_path("tests/data/asf/bad");
+  std::filesystem::copy_file(bad + "/good.asf", dir + "/02.asf");
+  std::filesystem::copy_file(bad + "/good.amc", dir + "/02_01.amc");
+  // A two-bone leg is not a recognised skeleton: the error says so (exit 2), but only after the
+  // ASF was found by CMU naming and both files read.
+  CliRun r = run(dir, "convert 02_01.amc --robot humanoid25");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(lines(r.err), 1) << r.err;
+  EXPECT_EQ(r.err.find("no skeleton for this AMC"), std::string::npos) << r.err;
+  std::filesystem::copy_file(bad + "/frame_gap.amc", dir + "/03_01.amc");
+  r = run(dir, "convert 03_01.amc --robot humanoid25 --asf 02.asf");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("03_01.amc:7:1: frame number 3 where 2 is expected"), std::string::npos) << r.err;
+  std::filesystem::create_directories(dir + "/alone");
+  std::filesystem::copy_file(bad + "/good.amc", dir + "/alone/03_01.amc");
+  r = run(dir, "convert alone/03_01.amc --robot humanoid25");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("03.asf or 03_01.asf"), std::string::npos) << r.err;
+  r = run(dir, "convert 02.asf --robot humanoid25");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("this is an ASF skeleton"), std::string::npos) << r.err;
+}
+
 TEST(Cli, ValidateRejectsBadReferences) {
   const std::string dir = test::scratch_dir();
   const std::string robot = "--robot '" + test::source_path("robots/humanoid25") + "'";

@@ -20,6 +20,8 @@ struct MotionLoadOptions {
   std::optional<std::string> up_axis;
   /// User profile (YAML): BVH joint names -> landmarks, or C3D marker names -> landmarks.
   std::string profile_path;
+  /// The ASF skeleton of an AMC clip (`--asf`); "" = found beside the AMC (asf_motion.hpp).
+  std::string asf_path;
   /// Detect and drop a synthetic T-pose at the start (CMU MotionBuilder/Daz releases, iClone).
   bool drop_tpose = true;
   /// [s] C3D gaps up to this long are filled by interpolation; longer gaps stay Missing.
@@ -41,7 +43,7 @@ std::string units_name(double metres_per_unit);
 /// it points down. Throws InputError otherwise.
 std::pair<char, bool> parse_up_axis(const std::string& text);
 
-/// Loads a BVH or C3D file (chosen by content, then extension). Throws InputError with a location
+/// Loads a BVH, C3D or AMC (+ its ASF) file (chosen by content, then extension). Throws InputError with a location
 /// for malformed input, for sources whose skeleton / marker set cannot be recognised, and for an
 /// implausible stature (wrong units; unless allow_implausible_stature). Warns when the frames
 /// repeat in a regular pattern (a wrong frame rate; unless source_fps is given).
