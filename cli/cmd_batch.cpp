@@ -134,6 +134,7 @@ Command setup_batch(CLI::App& parent) {
   // Convert flags forwarded to every worker (a manifest's per-clip values override them).
   const std::string g = "Convert options (for every clip)";
   app->add_option("--format", o->formats, "Output formats, comma-separated: csv, npz")->default_val("csv")->group(g);
+  app->add_option("--npz-layout", b.convert.npz_layout, "NPZ body and joint order: urdf, mjcf:FILE or names:FILE")->group(g);
   app->add_option("--fps", b.convert.fps, "Output frame rate [Hz]")
       ->default_val(30.0)
       ->check(bounded(kMinFrameRate_hz, kMaxOutputFrameRate_hz, "Hz"))
@@ -167,9 +168,14 @@ Command setup_batch(CLI::App& parent) {
       "plus summary.json, summary.csv and index.html (summary-shard-I-of-N.* and index-shard-I-of-N.html with --shard).\n"
       "Exit status: 0 every clip ok or up to date; 1 some clip failed its check; 2 some clip had bad input or failed\n"
       "otherwise (crashed, timeout, out of memory, ...) -- 2 takes precedence over 1; 128+N when stopped by signal N.");
-  return {app, [o] {
+  return {app, [o, app] {
             BatchOptions& b = o->batch;
+            if (app->count("--robot") == 0) std::cerr << "robot: " << b.robot << " (default; pass --robot)\n";
             b.convert.formats = parse_reference_formats(o->formats);
+            // A layout file relative to here must still be found by the workers.
+            if (const auto colon = b.convert.npz_layout.find(':'); colon != std::string::npos)
+              b.convert.npz_layout = b.convert.npz_layout.substr(0, colon + 1) +
+                                     std::filesystem::absolute(b.convert.npz_layout.substr(colon + 1)).lexically_normal().string();
             b.convert.disabled_passes = o->disabled;
             b.convert.enabled_passes = o->enabled;
             if (!o->source_units.empty()) b.convert.source_units = o->source_units;

@@ -8,6 +8,7 @@
 #include "cli/exit_codes.hpp"
 #include "cli/numeric_option.hpp"
 #include "cli/print_check.hpp"
+#include "cli/progress_line.hpp"
 #include "retarget/core/error.hpp"
 #include "retarget/core/file_io.hpp"
 #include "retarget/core/strings.hpp"
@@ -29,6 +30,7 @@ struct ConvertOptions {
   double source_fps = 0;
   double time_scale = 1.0;
   bool keep_tpose = false;
+  bool force = false;       // convert even with an implausible stature
   bool verbose = false;
   bool list_passes = false;
   bool check = false;       // run the dynamics check on the result (issue 5)
@@ -113,12 +115,15 @@ void print_summary(const ConvertResult& r, bool verbose) {
 
 Command setup_convert(CLI::App& parent) {
   auto o = std::make_shared<ConvertOptions>();
-  CLI::App* app = parent.add_subcommand("convert", "Retarget a BVH or C3D clip to a robot and write the reference");
-  app->add_option("clip", o->request.clip_path, "Motion capture file (.bvh or .c3d)");
+  CLI::App* app = parent.add_subcommand("convert", "Retarget a BVH, C3D or ASF/AMC clip to a robot and write the reference");
+  app->add_option("clip", o->request.clip_path, "Motion capture file (.bvh, .c3d or .amc)");
   app->add_option("--robot", o->robot, "Robot: a name in robots/, a folder or a robot.yaml")->default_val("humanoid25");
   app->add_option("-o,--output", o->request.output,
                   "Output stem, .csv/.npz file or folder (default: out/<clip name>); meta.json goes beside it");
   app->add_option("--format", o->formats, "Output formats, comma-separated: csv, npz")->default_val("csv");
+  app->add_option("--npz-layout", o->request.npz_layout,
+                  "NPZ body and joint order: urdf, mjcf:FILE (a simulator's MJCF order) or names:FILE "
+                  "(default: the robot's robot.yaml npz_layout, else urdf)");
   app->add_option("--fps", o->request.fps, "Output frame rate [Hz]")
       ->default_val(30.0)
       ->check(bounded(kMinFrameRate_hz, kMaxOutputFrameRate_hz, "Hz"));
@@ -137,8 +142,12 @@ Command setup_convert(CLI::App& parent) {
   app->add_option("--source-fps", o->source_fps, "Override the source frame rate [Hz]")
       ->check(bounded(kMinFrameRate_hz, kMaxFrameRate_hz, "Hz"));
   app->add_option("--up-axis", o->up_axis, "Override the detected source up axis: x, y, z (optionally -y, ...)");
+  app->add_option("--asf", o->request.motion.asf_path,
+                  "ASF skeleton of an AMC clip (default: found beside it, CMU naming 01_01.amc -> 01.asf)");
   app->add_option("--skeleton-profile,--marker-map", o->request.motion.profile_path,
                   "YAML mapping landmarks to BVH joint names or C3D markers (README: Motion input)");
+  app->add_flag("--force", o->force,
+                "Convert even when the clip's stature is implausible (outside 0.5-2.5 m: usually wrong units)");
   app->add_flag("--keep-tpose", o->keep_tpose, "Keep a synthetic T-pose at the start instead of dropping it");
   app->add_option("--time-scale", o->time_scale, "Play the clip S times slower (S > 1) or faster (S < 1) before IK (the retime pass)")
       ->check(bounded(0.05, 20.0, ""));
@@ -153,13 +162,17 @@ Command setup_convert(CLI::App& parent) {
   app->add_option("--report", o->report_dir, "With --check: write report.json, report.txt and SVG plots into this folder "
                                              "(implies --check)");
   app->footer("Exit status: 0 ok (and the check passed), 1 the check failed (outputs are written), 2 bad input.");
-  return {app, [o] {
+  return {app, [o, app] {
             if (o->list_passes) {
               print_pass_list();
               return kExitOk;
             }
             if (o->request.clip_path.empty()) throw InputError("convert", "a clip is required (retarget convert CLIP --robot ROBOT)");
-            o->request.formats = parse_reference_formats(o->formats);
+            std::optional<std::vector<ReferenceFormat>> listed;
+            if (app->count("--format") > 0) listed = parse_reference_formats(o->formats);
+            o->request.formats = output_formats_for(o->request.output, listed);
+            if (app->count("--robot") == 0) std::cerr << "robot: " << o->robot << " (default; pass --robot)\n";
+            o->request.motion.allow_implausible_stature = o->force;
             o->request.disabled_passes = o->disabled;
             o->request.enabled_passes = o->enabled;
             if (!o->source_units.empty()) o->request.motion.source_units = o->source_units;
@@ -168,14 +181,25 @@ Command setup_convert(CLI::App& parent) {
             o->request.motion.drop_tpose = !o->keep_tpose;
             o->request.time_scale = o->time_scale;
             const auto model = RobotModel::load(o->robot, o->package_paths);
+            ProgressLine progress;
+            const std::string clip_name = base_name(o->request.clip_path);
+            progress.set("converting " + clip_name + ": loading");
+            o->request.on_pass = [&progress, clip_name](int index, int count, const std::string& name) {
+              progress.set(format("converting %s: pass %d/%d %s", clip_name.c_str(), index + 1, count, name.c_str()));
+            };
             const ConvertResult r = run_convert(o->request, *model);
+            progress.stop();
             print_summary(r, o->verbose);
             if (!o->check && o->report_dir.empty()) return kExitOk;
             ValidateRequest check;
             check.reference_path = r.written.empty() ? r.output_stem : r.written.front();
             check.check = default_check_options(*model);
             std::cout << "\n";
+            ProgressLine checking;
+            checking.set(format("checking %s: simulating %.1f s of motion", clip_name.c_str(),
+                                r.clip.reference.num_frames() / r.clip.reference.fps));
             const ValidateResult v = validate_reference(r.clip.reference, *model, check);
+            checking.stop();
             return report_check(*model, v, check.check, check.reference_path, o->report_dir, false);
           }};
 }

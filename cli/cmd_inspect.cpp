@@ -45,7 +45,9 @@ int inspect_clip(InspectOptions o) {
   if (o.source_fps > 0) o.motion.source_fps = o.source_fps;
   if (!o.up_axis.empty()) o.motion.up_axis = o.up_axis;
   o.motion.drop_tpose = !o.keep_tpose;
-  const HumanMotion m = load_motion(o.target, o.motion);
+  MotionLoadOptions motion = o.motion;
+  motion.allow_implausible_stature = true;  // show what was read; convert refuses it
+  const HumanMotion m = load_motion(o.target, motion);
   const MotionSourceInfo& s = m.source;
   std::cout << "clip " << s.path << "\n";
   std::cout << format("  format        %s, profile %s\n", s.format.c_str(), s.profile.c_str());

@@ -10,7 +10,9 @@
 #include "cli/exit_codes.hpp"
 #include "cli/numeric_option.hpp"
 #include "cli/print_check.hpp"
+#include "cli/progress_line.hpp"
 #include "retarget/core/error.hpp"
+#include "retarget/core/file_io.hpp"
 #include "retarget/jobs/validate_job.hpp"
 #include "retarget/model/robot_model.hpp"
 
@@ -23,6 +25,7 @@ struct ValidateOptions {
   std::string robot;
   std::vector<std::string> package_paths;
   double fps = 0;
+  std::string joint_order;
   std::string report_dir;
   bool json = false;
   bool no_dynamic_mapping = false;
@@ -40,6 +43,8 @@ Command setup_validate(CLI::App& parent) {
   app->add_option("--robot", o->robot, "Robot: a name in robots/, a folder or a robot.yaml")->default_val("humanoid25");
   app->add_option("--fps", o->fps, "Frame rate [Hz] of a plain CSV without meta.json")
       ->check(bounded(kMinFrameRate_hz, kMaxFrameRate_hz, "Hz"));
+  app->add_option("--joint-order", o->joint_order,
+                  "Joint order of an NPZ without joint_names: an MJCF (.xml) or a YAML list of joint names");
   app->add_option("--report", o->report_dir, "Write report.json and SVG plots into this folder");
   app->add_flag("--json", o->json, "Print the report as JSON instead of the text summary");
   app->add_flag("--no-dynamic-mapping", o->no_dynamic_mapping, "Turn off online COM re-planning (ablation)");
@@ -48,16 +53,18 @@ Command setup_validate(CLI::App& parent) {
                 "Search (bisection over the time scale) for the fastest playback at which the check passes");
   app->add_option("--package-path", o->package_paths, "Extra root folder for package:// URIs (repeatable)");
   app->footer("Exit status: 0 the check passed, 1 it failed (fall or unmet contact), 2 bad input.");
-  return {app, [o] {
+  return {app, [o, app] {
+            if (app->count("--robot") == 0) std::cerr << "robot: " << o->robot << " (default; pass --robot)\n";
             const auto model = RobotModel::load(o->robot, o->package_paths);
             ValidateRequest request;
             request.reference_path = o->reference;
             request.fps = o->fps;
+            request.joint_order_path = o->joint_order;
             request.check = default_check_options(*model);
             request.check.dynamic_mapping = !o->no_dynamic_mapping;
             request.check.trunk_mapping = !o->no_trunk_mapping;
             if (o->find_speed) {
-              const Reference ref = read_reference_for(*model, o->reference, o->fps);
+              const Reference ref = read_reference_for(*model, o->reference, o->fps, o->joint_order);
               const SpeedSearchResult s = find_feasible_speed(ref, *model, request);
               std::cout << format("%s on %s: ", o->reference.c_str(), model->name().c_str());
               if (!s.feasible)
@@ -70,7 +77,10 @@ Command setup_validate(CLI::App& parent) {
               std::cout << "\n";
               return s.passes_at_1x ? kExitOk : kExitCheckFailed;
             }
+            ProgressLine progress;
+            progress.set("checking " + base_name(o->reference));
             const ValidateResult r = run_validate(request, *model);
+            progress.stop();
             return report_check(*model, r, request.check, o->reference, o->report_dir, o->json);
           }};
 }

@@ -8,6 +8,7 @@
 
 #include "cli/command.hpp"
 #include "cli/exit_codes.hpp"
+#include "cli/suggest.hpp"
 #include "retarget/core/error.hpp"
 #include "retarget/core/version.hpp"
 
@@ -30,6 +31,14 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
+    // A mistyped option: name it with the closest real one instead of CLI11's generic message.
+    if (dynamic_cast<const CLI::ExtrasError*>(&e) != nullptr) {
+      const std::vector<std::string> hints = unknown_option_hints(app, argc, argv);
+      if (!hints.empty()) {
+        std::cerr << "error: " << hints.front() << "\n";
+        return kExitBadInput;
+      }
+    }
     const int rc = app.exit(e);  // prints help / version / the usage error
     return rc == 0 ? kExitOk : kExitBadInput;
   }

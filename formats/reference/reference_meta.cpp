@@ -297,7 +297,10 @@ void apply_reference_meta(ReferenceMeta meta, const std::string& meta_file, cons
     if (std::fabs(meta.fps - r.fps) > 1e-6 * meta.fps)
       throw InputError(key_loc(meta_file, "fps"),
                        format("meta says %.9g fps but %s says %.9g", meta.fps, data_file.c_str(), r.fps));
-    if (meta.joint_names != r.joint_names)
+    // The same joints; the order may differ (an NPZ in a simulator's order beside the CSV's meta).
+    if (std::set<std::string>(meta.joint_names.begin(), meta.joint_names.end()) !=
+            std::set<std::string>(r.joint_names.begin(), r.joint_names.end()) ||
+        meta.joint_names.size() != r.joint_names.size())
       throw InputError(key_loc(meta_file, "joint_names"),
                        format("the %zu joint names differ from the %zu of %s", meta.joint_names.size(),
                               r.joint_names.size(), data_file.c_str()));

@@ -1,5 +1,6 @@
 #include "formats/reference/reference_npz.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <set>
@@ -89,13 +90,16 @@ class NpzReferenceReader {
       std::set<std::string> seen;
       for (const std::string& n : r.joint_names)
         if (n.empty() || !seen.insert(n).second) fail("joint_names", "empty or duplicate joint name '" + n + "'");
-    } else if (o_.joint_names.empty()) {
-      fail("joint_names", "missing: this NPZ does not name its joints; give the robot (--robot) so its joint order can be used");
-    } else if (o_.joint_names.size() != J) {
-      fail("joint_pos", format("%zu joint columns but robot %s has %zu joints (and the file has no joint_names)", J,
-                               o_.robot_name.c_str(), o_.joint_names.size()));
+    } else if (o_.npz_joint_order.empty()) {
+      // Guessing the robot's own order would silently train or check the wrong joints when the
+      // file came from a simulator with another order: the user states it.
+      fail("joint_names", "missing: this NPZ does not name its joints; state their order with --joint-order FILE "
+                          "(the MJCF or a YAML list of joint names the file was written in)");
+    } else if (o_.npz_joint_order.size() != J) {
+      fail("joint_pos", format("%zu joint columns but the stated joint order has %zu joints (the file has no joint_names)",
+                               J, o_.npz_joint_order.size()));
     } else {
-      r.joint_names = o_.joint_names;
+      r.joint_names = o_.npz_joint_order;
     }
     joint_names_ = &r.joint_names;
 
@@ -110,6 +114,7 @@ class NpzReferenceReader {
     NpzBodyArrays local;
     NpzBodyArrays& b = bodies ? *bodies : local;
     read_bodies(b);
+    b.joint_order = r.joint_names;
 
     const Array* root_pos = f_.find("root_pos_w");
     const Array* root_quat = f_.find("root_quat_w");
@@ -291,11 +296,23 @@ std::string encode_reference_npz(const Reference& r, const NpzBodyArrays* bodies
     return Array::from_doubles({static_cast<std::size_t>(m.cols()), static_cast<std::size_t>(m.rows())},
                                std::vector<double>(m.data(), m.data() + m.size()), f);
   };
+  // Joint columns in the layout's order (bodies->joint_order), else the reference's.
+  std::vector<std::string> joint_names = r.joint_names;
+  MatX joint_pos = r.joint_pos;
+  if (bodies && !bodies->joint_order.empty()) {
+    RT_DEMAND(bodies->joint_order.size() == J, "NpzBodyArrays: joint_order must list every joint of the reference");
+    for (std::size_t k = 0; k < J; ++k) {
+      const auto it = std::find(r.joint_names.begin(), r.joint_names.end(), bodies->joint_order[k]);
+      RT_DEMAND(it != r.joint_names.end(), "NpzBodyArrays: joint_order names a joint the reference does not have");
+      joint_pos.row(static_cast<Eigen::Index>(k)) = r.joint_pos.row(it - r.joint_names.begin());
+    }
+    joint_names = bodies->joint_order;
+  }
   std::vector<NamedArray> a;
   a.push_back({"fps", Array::from_doubles({1}, {r.fps}, DType::Float64), 0});
-  a.push_back({"joint_names", Array::from_strings({J}, r.joint_names), 0});
-  a.push_back({"joint_pos", from_matrix(r.joint_pos), 0});
-  a.push_back({"joint_vel", from_matrix(joint_velocities(r.joint_pos, r.fps)), 0});
+  a.push_back({"joint_names", Array::from_strings({J}, joint_names), 0});
+  a.push_back({"joint_pos", from_matrix(joint_pos), 0});
+  a.push_back({"joint_vel", from_matrix(joint_velocities(joint_pos, r.fps)), 0});
   a.push_back({"root_pos_w", from_matrix(r.root_pos_W), 0});
   MatX wxyz(4, T);
   for (int t = 0; t < T; ++t) {

@@ -20,8 +20,8 @@
 ///   body_ang_vel_w  <f8     (T, B, 3)  [rad/s] (when given)
 ///
 /// Reading: `fps` and `joint_pos` are required. (*) `joint_names` may be absent (plain BeyondMimic
-/// files have none); the robot's joint order from ReferenceReadOptions is used then, and its count
-/// must match. (**) The root pose is `root_pos_w` + `root_quat_w` (both or neither); without them
+/// files have none) only when the caller states the order (ReferenceReadOptions::npz_joint_order,
+/// `validate --joint-order`); its count must match. The robot's own order is never assumed. (**) The root pose is `root_pos_w` + `root_quat_w` (both or neither); without them
 /// body 0 of `body_pos_w` + `body_quat_w` is taken as the root (body 0 is the articulation root in
 /// Isaac Lab / BeyondMimic exports). Optional `time_s` or `time` (T,) time stamps are checked
 /// (strictly increasing, uniform 1/fps). Numeric keys may have any numeric dtype of npy_array.hpp;
@@ -50,7 +50,8 @@ struct ReferenceNpzWriteOptions {
 MatX joint_velocities(const MatX& joint_pos, double fps);
 
 /// The .npz bytes of `reference` (after check_reference) plus `bodies` when given (InternalError
-/// when their sizes disagree with the reference; InputError on non-finite values).
+/// when their sizes disagree with the reference; InputError on non-finite values). The joint
+/// columns follow bodies->joint_order when it is given (npz_layout.hpp), else the reference.
 std::string encode_reference_npz(const Reference& reference, const NpzBodyArrays* bodies = nullptr,
                                  const ReferenceNpzWriteOptions& options = {});
 
@@ -59,7 +60,7 @@ void write_reference_npz(const std::string& path, const Reference& reference, co
                          const ReferenceNpzWriteOptions& options = {});
 
 /// Parses .npz bytes into a Reference (see the key table for what is required). Uses
-/// options.joint_names only when the file has no joint_names and options.quat_norm_tolerance;
+/// options.npz_joint_order only when the file has no joint_names, and options.quat_norm_tolerance;
 /// robot and fps checks against `options` are read_reference's job. `bodies`, when given, receives
 /// the body arrays (cleared when the file has none).
 Reference decode_reference_npz(std::string_view bytes, const std::string& file, const ReferenceReadOptions& options = {},

@@ -297,7 +297,7 @@ std::vector<BatchClip> discover_folder(const fs::path& folder, const ClipDiscove
     clips.push_back(std::move(c));
   }
   std::sort(clips.begin(), clips.end(), [](const BatchClip& a, const BatchClip& b) { return a.input < b.input; });
-  if (clips.empty()) throw InputError(folder.string(), "no .bvh or .c3d files in this folder (searched recursively)");
+  if (clips.empty()) throw InputError(folder.string(), "no .bvh, .c3d or .amc files in this folder (searched recursively)");
   return clips;
 }
 
@@ -305,7 +305,7 @@ std::vector<BatchClip> discover_folder(const fs::path& folder, const ClipDiscove
 
 bool is_motion_file(const std::string& path) {
   const std::string lower = to_lower(path);
-  return ends_with(lower, ".bvh") || ends_with(lower, ".c3d");
+  return ends_with(lower, ".bvh") || ends_with(lower, ".c3d") || ends_with(lower, ".amc");
 }
 
 bool is_manifest_path(const std::string& input) {

@@ -15,6 +15,10 @@ std::string format_list(const std::vector<ReferenceFormat>& formats) {
 }
 
 // The settings for one clip: the batch-wide ones with the manifest's overrides applied.
+std::string output_file(const std::string& stem, const std::vector<ReferenceFormat>& formats) {
+  return stem + "." + (formats.empty() ? "csv" : reference_format_name(formats.front()));
+}
+
 ConvertSettings effective(const BatchClip& clip, const ConvertSettings& s) {
   ConvertSettings e = s;
   const ClipOverrides& o = clip.overrides;
@@ -32,10 +36,12 @@ std::vector<std::string> convert_arguments(const BatchClip& clip, const ConvertS
                                            const std::string& robot, const std::string& output_stem,
                                            const std::string& report_dir) {
   const ConvertSettings s = effective(clip, settings);
-  // "-o <stem>.csv": convert strips a .csv/.npz extension to get the stem, whatever the formats,
-  // and never mistakes it for a folder (a folder of the same name may exist for sub-folder clips).
-  std::vector<std::string> a = {"convert", clip.input, "--robot", robot, "-o", output_stem + ".csv",
+  // "-o <stem>.<first format>": convert strips the extension to get the stem (the extension must
+  // be one of --format) and never mistakes it for a folder (a folder of the same name may exist
+  // for sub-folder clips).
+  std::vector<std::string> a = {"convert", clip.input, "--robot", robot, "-o", output_file(output_stem, s.formats),
                                 "--format", format_list(s.formats)};
+  if (!s.npz_layout.empty()) a.insert(a.end(), {"--npz-layout", s.npz_layout});
   if (s.fps != 30.0) a.insert(a.end(), {"--fps", number(s.fps)});
   if (!s.passes.empty()) a.insert(a.end(), {"--passes", s.passes});
   for (const std::string& p : s.disabled_passes) a.push_back("--no-" + p);
@@ -56,8 +62,9 @@ ConvertRequest convert_request_for(const BatchClip& clip, const ConvertSettings&
   const ConvertSettings s = effective(clip, settings);
   ConvertRequest r;
   r.clip_path = clip.input;
-  r.output = output_stem + ".csv";
+  r.output = output_file(output_stem, s.formats);
   r.formats = s.formats;
+  r.npz_layout = s.npz_layout;
   r.fps = s.fps;
   r.time_scale = s.time_scale;
   r.max_joint_speed = s.max_joint_speed;

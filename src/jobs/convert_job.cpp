@@ -9,6 +9,7 @@
 #include "retarget/core/sha256.hpp"
 #include "retarget/core/strings.hpp"
 #include "retarget/core/version.hpp"
+#include "retarget/reference/npz_layout.hpp"
 #include "retarget/reference/robot_mapping.hpp"
 #include "retarget/model/robot_model.hpp"
 #include "retarget/passes/registry.hpp"
@@ -90,6 +91,11 @@ Pipeline make_pipeline(const ConvertRequest& request) {
   return pipeline;
 }
 
+NpzLayout npz_layout_for(const ConvertRequest& request, const RobotModel& model) {
+  if (!request.npz_layout.empty()) return resolve_npz_layout(model, request.npz_layout, "--npz-layout");
+  return resolve_npz_layout(model, model.config().npz_layout, model.config().where("npz_layout"));
+}
+
 std::string provenance_json(const ConvertRequest& request, const ConvertResult& r, const RobotModel& model) {
   const MotionSourceInfo& src = r.clip.human.source;
   nlohmann::json j;
@@ -108,6 +114,8 @@ std::string provenance_json(const ConvertRequest& request, const ConvertResult& 
                  {"floor_height_m", src.floor_height_m}};
   j["robot_config"] = {{"path", model.config().config_path}, {"sha256", sha256_file(model.config().config_path)}};
   j["urdf_sha256"] = sha256_file(model.config().urdf_path);
+  if (std::find(request.formats.begin(), request.formats.end(), ReferenceFormat::Npz) != request.formats.end())
+    j["npz_layout"] = request.npz_layout.empty() ? model.config().npz_layout : request.npz_layout;
   j["pipeline"] = r.pipeline;
   j["options_sha256"] = convert_options_sha256(request);
   nlohmann::json passes = nlohmann::json::array();
@@ -123,6 +131,26 @@ std::string provenance_json(const ConvertRequest& request, const ConvertResult& 
 }
 
 }  // namespace
+
+std::vector<ReferenceFormat> output_formats_for(const std::string& output,
+                                                const std::optional<std::vector<ReferenceFormat>>& formats) {
+  const std::vector<ReferenceFormat> listed = formats ? *formats : std::vector<ReferenceFormat>{ReferenceFormat::Csv};
+  std::error_code ec;
+  if (output.empty() || ends_with(output, "/") || fs::is_directory(output, ec)) return listed;
+  const std::string ext = to_lower(fs::path(output).extension().string());
+  if (ext.empty()) return listed;
+  std::optional<ReferenceFormat> by_name;
+  if (ext == ".csv") by_name = ReferenceFormat::Csv;
+  if (ext == ".npz") by_name = ReferenceFormat::Npz;
+  if (!by_name)
+    throw InputError("-o " + output, "'" + ext + "' is not an output format: give a .csv or .npz file, a folder, "
+                                                  "or a name without an extension (with --format csv,npz)");
+  if (!formats) return {*by_name};
+  if (std::find(formats->begin(), formats->end(), *by_name) == formats->end())
+    throw InputError("-o " + output, std::string("the extension asks for ") + reference_format_name(*by_name) +
+                                         " but --format does not include it");
+  return *formats;
+}
 
 std::string output_stem_for(const ConvertRequest& request) {
   const std::string stem = fs::path(request.clip_path).stem().string();
@@ -142,10 +170,18 @@ std::string convert_options_sha256(const ConvertRequest& request) {
   text += "formats";
   for (ReferenceFormat f : request.formats) text += std::string(" ") + reference_format_name(f);
   text += "\n";
+  // The layout by its content: the same file edited gives other outputs.
+  if (!request.npz_layout.empty()) {
+    const auto colon = request.npz_layout.find(':');
+    text += "npz_layout " + (colon == std::string::npos ? request.npz_layout
+                                                         : request.npz_layout.substr(0, colon) + ":" +
+                                                               sha256_file(request.npz_layout.substr(colon + 1))) + "\n";
+  }
   text += "source_units " + (m.source_units ? "=" + *m.source_units : std::string("auto")) + "\n";
   text += "source_fps " + (m.source_fps ? format("=%.17g", *m.source_fps) : std::string("auto")) + "\n";
   text += "up_axis " + (m.up_axis ? "=" + *m.up_axis : std::string("auto")) + "\n";
   text += "profile " + (m.profile_path.empty() ? std::string("none") : sha256_file(m.profile_path)) + "\n";
+  if (!m.asf_path.empty()) text += "asf " + sha256_file(m.asf_path) + "\n";
   text += format("drop_tpose %d\nmax_gap_s %.17g\n", m.drop_tpose ? 1 : 0, m.max_gap_s);
   text += format("normalize %d %d %.17g\n", m.normalize.align_start ? 1 : 0, m.normalize.move_floor_to_zero ? 1 : 0,
                  m.normalize.floor_percentile);
@@ -162,7 +198,7 @@ ConvertResult run_convert(const ConvertRequest& request, const RobotModel& model
   Pipeline pipeline = make_pipeline(request);
   r.pipeline = pipeline.to_string();
   RobotData data(model);
-  r.passes = pipeline.run(r.clip, &model, &data);
+  r.passes = pipeline.run(r.clip, &model, &data, request.on_pass);
   if (r.clip.motion.num_frames() > 0) r.quality = compute_quality(model, data, r.clip);
 
   r.output_stem = output_stem_for(request);
@@ -178,7 +214,7 @@ ConvertResult run_convert(const ConvertRequest& request, const RobotModel& model
     }
     const bool npz = std::find(request.formats.begin(), request.formats.end(), ReferenceFormat::Npz) != request.formats.end();
     NpzBodyArrays bodies;
-    if (npz) bodies = compute_body_arrays(model, data, r.clip.reference);
+    if (npz) bodies = compute_body_arrays(model, data, r.clip.reference, npz_layout_for(request, model));
     r.written = write_reference(r.output_stem, r.clip.reference, request.formats, npz ? &bodies : nullptr);
   }
   r.total_ms = ms_since(t0);

@@ -4,13 +4,16 @@
 
 #include "retarget/core/error.hpp"
 #include "retarget/model/robot_model.hpp"
+#include "retarget/reference/npz_layout.hpp"
 #include "retarget/reference/reference_io.hpp"
 #include "retarget/reference/robot_mapping.hpp"
 
 namespace rt {
 
-Reference read_reference_for(const RobotModel& model, const std::string& path, double fps) {
+Reference read_reference_for(const RobotModel& model, const std::string& path, double fps,
+                             const std::string& joint_order_path) {
   ReferenceReadOptions o;
+  if (!joint_order_path.empty()) o.npz_joint_order = read_joint_order(model, joint_order_path);
   o.robot_name = model.name();
   for (int k : model.export_joint_order())
     o.joint_names.push_back(model.joints()[static_cast<std::size_t>(model.movable_joints()[static_cast<std::size_t>(k)])].name);
@@ -36,7 +39,7 @@ ValidateResult validate_reference(Reference reference, const RobotModel& model, 
 }
 
 ValidateResult run_validate(const ValidateRequest& request, const RobotModel& model) {
-  return validate_reference(read_reference_for(model, request.reference_path, request.fps), model, request);
+  return validate_reference(read_reference_for(model, request.reference_path, request.fps, request.joint_order_path), model, request);
 }
 
 SpeedSearchResult find_feasible_speed(const Reference& reference, const RobotModel& model, const ValidateRequest& request,

@@ -67,6 +67,7 @@ class ConfigParser {
 
   void parse_feet(const YamlView& feet);
   void parse_base_orientation(const YamlView& v);
+  void parse_npz_layout(const YamlView& layout);
   void parse_landmarks(const YamlView& landmarks);
   void parse_standing(const YamlView& standing);
   void parse_controller(const YamlView& controller);
@@ -79,7 +80,7 @@ class ConfigParser {
 void ConfigParser::parse(const YamlView& doc, const std::vector<std::string>& extra_package_paths) {
   doc.expect_map();
   doc.check_keys({"name", "urdf", "package_paths", "feet", "landmarks", "base_orientation", "joint_limits",
-                  "export_joints", "standing_pose", "controller", "simulation"});
+                  "export_joints", "npz_layout", "standing_pose", "controller", "simulation"});
   c_.name = name_string(doc.at("name"));
 
   // Search order: --package-path, then the config's own roots, then $ROS_PACKAGE_PATH.
@@ -125,9 +126,27 @@ void ConfigParser::parse(const YamlView& doc, const std::vector<std::string>& ex
       c_.export_joints.push_back(name);
     }
   }
+  if (auto layout = doc.find("npz_layout")) parse_npz_layout(*layout);
   if (auto sp = doc.find("standing_pose")) parse_standing(*sp);
   if (auto ctl = doc.find("controller")) parse_controller(*ctl);
   if (auto sim = doc.find("simulation")) parse_simulation(*sim);
+}
+
+// "urdf", or "mjcf:FILE" / "names:FILE" with FILE resolved as the URDF is (relative to this file,
+// absolute or package://); the file's content is checked against the URDF when it is used.
+void ConfigParser::parse_npz_layout(const YamlView& layout) {
+  const std::string spec = name_string(layout);
+  if (spec == "urdf") {
+    c_.npz_layout = spec;
+    return;
+  }
+  const auto colon = spec.find(':');
+  const std::string kind = colon == std::string::npos ? spec : spec.substr(0, colon);
+  if (colon == std::string::npos || (kind != "mjcf" && kind != "names") || colon + 1 == spec.size())
+    layout.fail("expected urdf, mjcf:FILE or names:FILE, got '" + spec + "'");
+  const ResolvedResource r = resolve_package_uri(spec.substr(colon + 1), dir_, c_.package_paths);
+  if (r.path.empty()) layout.fail(kind + " file not found: " + r.error);
+  c_.npz_layout = kind + ":" + r.path;
 }
 
 void ConfigParser::parse_feet(const YamlView& feet) {

@@ -7,14 +7,16 @@
 #include "retarget/core/error.hpp"
 #include "retarget/core/file_io.hpp"
 #include "retarget/core/strings.hpp"
+#include "retarget/motion/asf/asf_motion.hpp"
 #include "retarget/motion/bvh/bvh_motion.hpp"
 #include "retarget/motion/c3d/c3d_motion.hpp"
+#include "retarget/motion/source_checks.hpp"
 
 namespace rt {
 
 namespace {
 
-enum class Kind { Bvh, C3d, Unknown };
+enum class Kind { Bvh, C3d, Amc, Asf, Unknown };
 
 // By content first (a C3D header has 0x50 in its second byte; a BVH starts with HIERARCHY), so a
 // misnamed file is still read correctly; then by extension.
@@ -22,7 +24,7 @@ Kind sniff(const std::string& path) {
   require_regular_file(path);  // a FIFO would block the open below; /dev/zero is no clip
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, std::string("cannot open: ") + std::strerror(errno));
-  char head[64] = {};
+  char head[512] = {};
   in.read(head, sizeof head);
   const std::size_t n = static_cast<std::size_t>(in.gcount());
   std::string_view text(head, n);
@@ -30,22 +32,42 @@ Kind sniff(const std::string& path) {
       static_cast<unsigned char>(head[2]) == 0xBF)
     text.remove_prefix(3);  // UTF-8 byte-order mark
   if (starts_with(trim(text), "HIERARCHY")) return Kind::Bvh;
+  // AMC and ASF start with '#' comments or their first keyword.
+  const std::string lower_head = to_lower(std::string(text));
+  if (lower_head.find(":fully-specified") != std::string::npos || lower_head.find(":degrees") != std::string::npos)
+    return Kind::Amc;
+  if (lower_head.find(":version") != std::string::npos || lower_head.find(":bonedata") != std::string::npos) return Kind::Asf;
   if (n >= 2 && static_cast<unsigned char>(head[1]) == 0x50) return Kind::C3d;
   const std::string lower = to_lower(path);
   if (ends_with(lower, ".bvh")) return Kind::Bvh;
   if (ends_with(lower, ".c3d")) return Kind::C3d;
+  if (ends_with(lower, ".amc")) return Kind::Amc;
+  if (ends_with(lower, ".asf")) return Kind::Asf;
   return Kind::Unknown;
 }
 
 }  // namespace
 
 HumanMotion load_motion(const std::string& path, const MotionLoadOptions& options) {
+  HumanMotion m;
   switch (sniff(path)) {
-    case Kind::Bvh: return load_bvh_motion(path, options);
-    case Kind::C3d: return load_c3d_motion(path, options);
-    case Kind::Unknown: break;
+    case Kind::Bvh: m = load_bvh_motion(path, options); break;
+    case Kind::C3d: m = load_c3d_motion(path, options); break;
+    case Kind::Amc: m = load_asf_amc_motion(path, options); break;
+    case Kind::Asf:
+      throw InputError(path, "this is an ASF skeleton: give the AMC motion file (its ASF is found beside it, or with --asf)");
+    case Kind::Unknown:
+      throw InputError(path, "unsupported motion file: expected a BVH (starts with HIERARCHY), a C3D or an AMC file (FBX is not read)");
   }
-  throw InputError(path, "unsupported motion file: expected a BVH (starts with HIERARCHY) or a C3D file");
+  if (!options.allow_implausible_stature) check_stature(m);
+  if (!options.source_fps) {
+    const RepeatedFrames r = find_repeated_frames(m);
+    if (r.run_length > 0)
+      m.diagnostics.warn(path, format("%d of %d frames repeat the previous one (runs of %d): the data looks like %g Hz, "
+                                      "not the %g Hz the file states; if so, pass --source-fps %g",
+                                      r.repeated, m.num_frames, r.run_length, r.data_fps, m.fps, r.data_fps));
+  }
+  return m;
 }
 
 }  // namespace rt

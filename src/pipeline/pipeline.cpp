@@ -118,8 +118,13 @@ RobotData& PassContext::data() const {
 }
 
 std::vector<PassRecord> Pipeline::run(Clip& clip, const RobotModel* model, RobotData* data) const {
+  return run(clip, model, data, PassStarted());
+}
+
+std::vector<PassRecord> Pipeline::run(Clip& clip, const RobotModel* model, RobotData* data, const PassStarted& on_pass) const {
   std::vector<PassRecord> records;
   for (const auto& pass : passes_) {
+    if (on_pass) on_pass(static_cast<int>(records.size()), static_cast<int>(passes_.size()), pass->name());
     PassRecord record;
     record.name = pass->name();
     record.options = pass->options().to_string();

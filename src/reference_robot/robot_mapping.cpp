@@ -89,46 +89,4 @@ Reference retime_reference(const Reference& in, double S) {
   return out;
 }
 
-NpzBodyArrays compute_body_arrays(const RobotModel& model, RobotData& data, const Reference& ref) {
-  const ReferenceRobotMap map(model, ref, "reference");
-  const int T = ref.num_frames();
-  std::vector<int> links = {model.root_link()};
-  for (int l = 0; l < static_cast<int>(model.links().size()); ++l)
-    if (l != model.root_link()) links.push_back(l);
-  NpzBodyArrays b;
-  const std::size_t B = links.size();
-  b.p_W_body.assign(B, Mat3X(3, T));
-  b.q_W_body.assign(B, std::vector<Quat>(static_cast<std::size_t>(T)));
-  b.v_W_body.assign(B, Mat3X(3, T));
-  b.w_W_body.assign(B, Mat3X(3, T));
-  for (int l : links) b.body_names.push_back(model.links()[static_cast<std::size_t>(l)].name);
-  for (int f = 0; f < T; ++f) {
-    update_kinematics(model, data, map.q(ref, f));
-    for (std::size_t k = 0; k < B; ++k) {
-      const Iso3 X = link_pose(model, data, links[k]);
-      b.p_W_body[k].col(f) = X.translation();
-      Quat q(X.linear());
-      q.normalize();
-      // Keep each body's quaternion sign continuous over time.
-      if (f > 0 && q.coeffs().dot(b.q_W_body[k][static_cast<std::size_t>(f - 1)].coeffs()) < 0) q.coeffs() *= -1;
-      b.q_W_body[k][static_cast<std::size_t>(f)] = q;
-    }
-  }
-  for (std::size_t k = 0; k < B; ++k) {
-    for (int f = 0; f < T; ++f) {
-      const int a = std::max(0, f - 1), c = std::min(T - 1, f + 1);
-      if (c == a) {
-        b.v_W_body[k].col(f).setZero();
-        b.w_W_body[k].col(f).setZero();
-        continue;
-      }
-      const double dt = (c - a) / ref.fps;
-      b.v_W_body[k].col(f) = (b.p_W_body[k].col(c) - b.p_W_body[k].col(a)) / dt;
-      const AngleAxis d(b.q_W_body[k][static_cast<std::size_t>(c)] * b.q_W_body[k][static_cast<std::size_t>(a)].inverse());
-      b.w_W_body[k].col(f) = d.angle() * d.axis() / dt;
-    }
-  }
-  return b;
-}
-
 }  // namespace rt

@@ -6,11 +6,13 @@
 #include <sys/stat.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include "formats/reference/npz_file.hpp"
 #include "retarget/core/file_io.hpp"
 #include "retarget/report/check_report.hpp"
 #include "support/test_paths.hpp"
@@ -132,6 +134,159 @@ TEST(Cli, ConvertThenValidateWithReport) {
 }
 
 // Bad references for validate (issue 5): each a one-line error and exit 2.
+// The NPZ's body axis and joint columns in the simulator's order (--npz-layout, robot.yaml
+// npz_layout), and validate refusing an NPZ that does not name its joints unless told the order.
+TEST(Cli, NpzLayoutsAndValidateJointOrder) {
+  RT_REQUIRE_SHARED(mjlab, "robots/unitree_g1/mjlab/g1.xml");
+  const std::string dir = test::scratch_dir();
+  const std::string clip = "'" + test::source_path("examples/clips/foot_lift.bvh") + "'";
+  const std::string g1 = " --robot '" + test::source_path("robots/g1") + "'";
+  const auto bodies = [&](const std::string& npz) {
+    const npz::NpzFile f = npz::read_npz(dir + "/" + npz);
+    return f.find("body_names")->to_strings();
+  };
+  CliRun r = run(dir, "convert " + clip + g1 + " -o default.npz --format npz");
+  ASSERT_EQ(r.status, 0) << r.err;
+  // Exactly the keys README "Files out" lists as always written.
+  std::vector<std::string> keys;
+  for (const npz::NamedArray& a : npz::read_npz(dir + "/default.npz").arrays) keys.push_back(a.key);
+  std::sort(keys.begin(), keys.end());
+  EXPECT_EQ(keys, (std::vector<std::string>{"body_ang_vel_w", "body_lin_vel_w", "body_names", "body_pos_w", "body_quat_w",
+                                            "contacts", "fps", "joint_names", "joint_pos", "joint_vel", "root_pos_w",
+                                            "root_quat_w"}));
+  const std::vector<std::string> mj = bodies("default.npz");  // G1's default: mjlab's order
+  ASSERT_EQ(mj.size(), 30u);
+  EXPECT_EQ(mj[0], "pelvis");
+  EXPECT_EQ(mj[15], "torso_link");
+  EXPECT_NE(read_file(dir + "/default.meta.json").find("\"npz_layout\": \"names:"), std::string::npos);
+  r = run(dir, "convert " + clip + g1 + " -o mjcf.npz --format npz --npz-layout 'mjcf:" + mjlab + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(bodies("mjcf.npz"), mj);
+  r = run(dir, "convert " + clip + g1 + " -o urdf.npz --format npz --npz-layout urdf");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(bodies("urdf.npz").size(), 39u);
+  EXPECT_EQ(bodies("urdf.npz")[1], "pelvis_contour_link");
+  r = run(dir, "convert " + clip + g1 + " -o x.npz --format npz --npz-layout isaac");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("--npz-layout"), std::string::npos) << r.err;
+
+  // As BeyondMimic writes it: no joint_names (and no meta.json beside it).
+  npz::NpzFile f = npz::read_npz(dir + "/default.npz");
+  std::vector<npz::NamedArray> bare;
+  for (const npz::NamedArray& a : f.arrays)
+    if (a.key != "joint_names") bare.push_back(a);
+  write_file_atomic(dir + "/bare.npz", npz::encode_npz(bare));
+  r = run(dir, "validate bare.npz" + g1);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("bare.npz [joint_names.npy]"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--joint-order"), std::string::npos) << r.err;
+  r = run(dir, "validate bare.npz" + g1 + " --joint-order '" + mjlab + "'");
+  EXPECT_TRUE(r.status == 0 || r.status == 1) << r.status << " " << r.err;
+  EXPECT_NE(r.out.find("bare.npz"), std::string::npos) << r.out;
+}
+
+TEST(Cli, OutputExtensionSelectsTheFormat) {
+  const std::string dir = test::scratch_dir();
+  const std::string clip = "'" + test::source_path("examples/clips/foot_lift.bvh") + "'";
+  CliRun r = run(dir, "convert " + clip + " -o refs/walk.npz");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(dir + "/refs/walk.npz"));
+  EXPECT_FALSE(std::filesystem::exists(dir + "/refs/walk.csv"));
+  // The default robot is announced.
+  EXPECT_NE(r.err.find("robot: humanoid25 (default; pass --robot)"), std::string::npos) << r.err;
+  r = run(dir, "convert " + clip + " -o refs/b.CSV --robot humanoid25");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(dir + "/refs/b.csv") || std::filesystem::exists(dir + "/refs/b.CSV"));
+  EXPECT_EQ(r.err.find("(default; pass --robot)"), std::string::npos) << r.err;
+  r = run(dir, "convert " + clip + " -o refs/both.npz --format csv,npz");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(dir + "/refs/both.csv") && std::filesystem::exists(dir + "/refs/both.npz"));
+  for (const std::string& bad : {std::string("-o x.pkl"), std::string("-o x.npz --format csv")}) {
+    r = run(dir, "convert " + clip + " " + bad);
+    EXPECT_EQ(r.status, 2) << bad;
+    EXPECT_EQ(lines(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("error: -o x."), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir + "/x.pkl.csv"));
+  }
+}
+
+TEST(Cli, GuardsForUnitsFrameRateAndTypos) {
+  const std::string dir = test::scratch_dir();
+  const std::string clip_path = test::source_path("examples/clips/foot_lift.bvh");
+  const std::string clip = "'" + clip_path + "' --robot humanoid25";
+  // A cm clip read as metres: a 164 m person is an error, not a warning.
+  CliRun r = run(dir, "convert " + clip + " --source-units m");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("implausible stature 164 m with units m (from --source-units)"), std::string::npos) << r.err;
+  r = run(dir, "convert " + clip + " --source-units m --force -o forced");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("implausible stature"), std::string::npos) << r.err;  // still said, as a warning
+
+  // Every frame twice and the rate doubled: the data says half the stated rate.
+  std::string text = read_file(clip_path);
+  const std::size_t motion = text.find("Frame Time:");
+  ASSERT_NE(motion, std::string::npos);
+  const std::size_t rows = text.find('\n', motion) + 1;
+  std::string doubled = text.substr(0, rows);
+  std::istringstream in(text.substr(rows));
+  int frames = 0;
+  for (std::string row; std::getline(in, row);)
+    if (!row.empty()) doubled += row + "\n" + row + "\n", ++frames;
+  const std::size_t count = doubled.find("Frames:");
+  doubled.replace(count, doubled.find('\n', count) - count, "Frames: " + std::to_string(2 * frames));
+  const std::size_t time = doubled.find("Frame Time:");
+  doubled.replace(time, doubled.find('\n', time) - time, "Frame Time: 0.00833333");
+  write(dir + "/doubled.bvh", doubled);
+  r = run(dir, "convert doubled.bvh --robot humanoid25");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("the data looks like 60 Hz, not the 120 Hz the file states; if so, pass --source-fps 60"),
+            std::string::npos)
+      << r.err;
+  r = run(dir, "convert doubled.bvh --robot humanoid25 --source-fps 120");
+  EXPECT_EQ(r.err.find("--source-fps 60"), std::string::npos) << r.err;
+
+  // Mistyped options get the closest real one.
+  r = run(dir, "convert " + clip + " --robto g1");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("unknown option '--robto' (did you mean '--robot'?)"), std::string::npos) << r.err;
+  r = run(dir, "validate x.csv --jont-order=a.xml");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("unknown option '--jont-order' (did you mean '--joint-order'?)"), std::string::npos) << r.err;
+  r = run(dir, "convert " + clip + " --zzzzzz");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("unknown option '--zzzzzz'"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("did you mean"), std::string::npos) << r.err;
+}
+
+TEST(Cli, AsfAmcConvertsAndBadFilesExit2) {
+  const std::string dir = test::scratch_dir();
+  const std::string bad = test::source_path("tests/data/asf/bad");
+  std::filesystem::copy_file(bad + "/good.asf", dir + "/02.asf");
+  std::filesystem::copy_file(bad + "/good.amc", dir + "/02_01.amc");
+  // A two-bone leg is not a recognised skeleton: the error says so (exit 2), but only after the
+  // ASF was found by CMU naming and both files read.
+  CliRun r = run(dir, "convert 02_01.amc --robot humanoid25");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(lines(r.err), 1) << r.err;
+  EXPECT_EQ(r.err.find("no skeleton for this AMC"), std::string::npos) << r.err;
+  std::filesystem::copy_file(bad + "/frame_gap.amc", dir + "/03_01.amc");
+  r = run(dir, "convert 03_01.amc --robot humanoid25 --asf 02.asf");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("03_01.amc:7:1: frame number 3 where 2 is expected"), std::string::npos) << r.err;
+  std::filesystem::create_directories(dir + "/alone");
+  std::filesystem::copy_file(bad + "/good.amc", dir + "/alone/03_01.amc");
+  r = run(dir, "convert alone/03_01.amc --robot humanoid25");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("03.asf or 03_01.asf"), std::string::npos) << r.err;
+  r = run(dir, "convert 02.asf --robot humanoid25");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("this is an ASF skeleton"), std::string::npos) << r.err;
+}
+
 TEST(Cli, ValidateRejectsBadReferences) {
   const std::string dir = test::scratch_dir();
   const std::string robot = "--robot '" + test::source_path("robots/humanoid25") + "'";

@@ -17,6 +17,7 @@ namespace rt {
 /// (ClipOverrides) replace the matching ones. Defaults are those of `retarget convert`.
 struct ConvertSettings {
   std::vector<ReferenceFormat> formats{ReferenceFormat::Csv};  ///< --format
+  std::string npz_layout;                    ///< --npz-layout (FILE absolute; "" = the robot's)
   double fps = 30.0;                         ///< [Hz] --fps
   double time_scale = 1.0;                   ///< --time-scale
   double max_joint_speed = 0;                ///< --max-joint-speed [rad/s] (0: none)

@@ -3,6 +3,7 @@
 /// motion, run the pass pipeline, measure quality (design.md §6) and write the requested formats
 /// plus meta.json atomically. The CLI and the batch workers call this; it never prints.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,9 @@ struct ConvertRequest {
   std::string clip_path;
   std::string output;                  ///< output stem, file (.csv/.npz) or folder; "" = out/<clip stem>
   std::vector<ReferenceFormat> formats{ReferenceFormat::Csv};
+  /// NPZ body/joint order (npz_layout.hpp: urdf, mjcf:FILE, names:FILE); "" = the robot's
+  /// robot.yaml `npz_layout` (default urdf). Only read when the formats include npz.
+  std::string npz_layout;
   double fps = 30.0;                   ///< [Hz] output rate (the resample pass's `fps`)
   double time_scale = 1.0;             ///< the retime pass's `time_scale` (> 1 slows the clip)
   double max_joint_speed = 0;          ///< [rad/s] the refine pass's `max_joint_speed` (0: the URDF limits only)
@@ -25,6 +29,8 @@ struct ConvertRequest {
   std::vector<std::string> enabled_passes;   ///< --<pass> for a pass not in the default pipeline
   MotionLoadOptions motion;
   bool write_outputs = true;           ///< false: run and measure only (benchmarks, tests)
+  /// Called before each pass (Pipeline::PassStarted); the CLI's progress line. Not hashed.
+  Pipeline::PassStarted on_pass;
 };
 
 struct ConvertResult {
@@ -36,6 +42,14 @@ struct ConvertResult {
   std::vector<std::string> written;    ///< files written, meta.json last
   double load_ms = 0, total_ms = 0;
 };
+
+/// The formats to write for `-o OUTPUT` and `--format` (nullopt when not given): an OUTPUT ending
+/// in .csv or .npz selects that format when no --format is given and must be one of the --format
+/// list when one is; any other extension on OUTPUT is an InputError ("-o x.pkl" is not silently
+/// written as x.pkl.csv). A folder (existing, or ending in '/') or a stem without an extension
+/// takes the --format list (default csv).
+std::vector<ReferenceFormat> output_formats_for(const std::string& output,
+                                                const std::optional<std::vector<ReferenceFormat>>& formats);
 
 /// Output stem for a request ("out/walk" for clip "mocap/walk.bvh" and no -o).
 std::string output_stem_for(const ConvertRequest& request);

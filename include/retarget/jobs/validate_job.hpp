@@ -15,6 +15,9 @@ namespace rt {
 struct ValidateRequest {
   std::string reference_path;
   double fps = 0;                    ///< [Hz] required for a plain CSV without meta.json
+  /// The joint order of an NPZ without joint_names (--joint-order: an MJCF or a YAML list,
+  /// npz_layout.hpp read_joint_order); "" = such an NPZ is refused.
+  std::string joint_order_path;
   DynamicsCheckOptions check;        ///< start from default_check_options(model)
   LabelContactsOptions contacts;     ///< for references without a contact schedule
 };
@@ -27,7 +30,9 @@ struct ValidateResult {
 };
 
 /// Reads the reference. InputError for unreadable or inconsistent files (one line, with location).
-Reference read_reference_for(const RobotModel& model, const std::string& path, double fps);
+/// `joint_order_path` as ValidateRequest::joint_order_path.
+Reference read_reference_for(const RobotModel& model, const std::string& path, double fps,
+                             const std::string& joint_order_path = "");
 
 ValidateResult run_validate(const ValidateRequest& request, const RobotModel& model);
 

@@ -26,6 +26,9 @@
 ///     left_knee_joint: {velocity: 12, effort: 150}   # [rad/s] (m/s), [N m] (N); > 0
 ///   export_joints: [left_hip_pitch_joint, ...]   # optional CSV column order (default: URDF order);
 ///                                             #   must list every movable joint exactly once
+///   npz_layout: names:mjlab_order.yaml         # optional body/joint order of the NPZ: urdf (default),
+///                                             #   mjcf:FILE or names:FILE (npz_layout.hpp); FILE
+///                                             #   relative to this file, absolute or package://
 ///   standing_pose:                            # optional
 ///     joints: {left_knee_joint: 0.3}          # [rad] (or m); within limits; unlisted joints are 0,
 ///                                             #   or just inside the range when 0 is outside it
@@ -120,6 +123,9 @@ struct RobotConfig {
   Mat3 R_root_F = Mat3::Identity();
   std::map<std::string, JointLimitOverride> joint_limits;
   std::vector<std::string> export_joints;  ///< empty: URDF order of movable joints
+  /// NPZ body/joint order: "urdf", or "mjcf:<absolute path>" / "names:<absolute path>"
+  /// (resolved when the config is read; npz_layout.hpp interprets it).
+  std::string npz_layout = "urdf";
   std::map<std::string, double> standing_joints;
   std::optional<double> standing_root_height_m;
   ControllerConfig controller;

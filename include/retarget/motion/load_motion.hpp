@@ -20,11 +20,16 @@ struct MotionLoadOptions {
   std::optional<std::string> up_axis;
   /// User profile (YAML): BVH joint names -> landmarks, or C3D marker names -> landmarks.
   std::string profile_path;
+  /// The ASF skeleton of an AMC clip (`--asf`); "" = found beside the AMC (asf_motion.hpp).
+  std::string asf_path;
   /// Detect and drop a synthetic T-pose at the start (CMU MotionBuilder/Daz releases, iClone).
   bool drop_tpose = true;
   /// [s] C3D gaps up to this long are filled by interpolation; longer gaps stay Missing.
   double max_gap_s = 0.25;
   NormalizeOptions normalize;
+  /// Load a clip whose estimated stature is implausible (source_checks.hpp) instead of refusing
+  /// it (`--force`; `inspect` always does, to show what was read).
+  bool allow_implausible_stature = false;
 };
 
 /// Metres per unit for a units name or number ("cm" -> 0.01, "0.05" -> 0.05). Throws InputError
@@ -38,8 +43,10 @@ std::string units_name(double metres_per_unit);
 /// it points down. Throws InputError otherwise.
 std::pair<char, bool> parse_up_axis(const std::string& text);
 
-/// Loads a BVH or C3D file (chosen by content, then extension). Throws InputError with a location
-/// for malformed input and for sources whose skeleton / marker set cannot be recognised.
+/// Loads a BVH, C3D or AMC (+ its ASF) file (chosen by content, then extension). Throws InputError with a location
+/// for malformed input, for sources whose skeleton / marker set cannot be recognised, and for an
+/// implausible stature (wrong units; unless allow_implausible_stature). Warns when the frames
+/// repeat in a regular pattern (a wrong frame rate; unless source_fps is given).
 HumanMotion load_motion(const std::string& path, const MotionLoadOptions& options = {});
 
 }  // namespace rt

@@ -54,6 +54,9 @@ class Pipeline {
 
   /// Runs every pass in order on `clip`; returns one record per pass.
   std::vector<PassRecord> run(Clip& clip, const RobotModel* model, RobotData* data) const;
+  /// Called before each pass with its index, the number of passes and its name (progress lines).
+  using PassStarted = std::function<void(int index, int count, const std::string& name)>;
+  std::vector<PassRecord> run(Clip& clip, const RobotModel* model, RobotData* data, const PassStarted& on_pass) const;
 
  private:
   std::vector<std::unique_ptr<Pass>> passes_;

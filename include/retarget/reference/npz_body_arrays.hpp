@@ -23,6 +23,10 @@ struct NpzBodyArrays {
   /// [body] 3 x T; either empty (key omitted from the NPZ) or one matrix per body.
   std::vector<Mat3X> v_W_body;             ///< linear velocity of the body origin [m/s]
   std::vector<Mat3X> w_W_body;             ///< angular velocity [rad/s]
+  /// Column order of joint_pos / joint_vel in the NPZ (npz_layout.hpp); empty = the Reference's
+  /// own order. Must be a permutation of the Reference's joint names. The reader fills in the
+  /// file's order.
+  std::vector<std::string> joint_order;
 
   int num_bodies() const { return static_cast<int>(body_names.size()); }
   bool empty() const { return body_names.empty(); }

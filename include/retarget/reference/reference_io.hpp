@@ -34,10 +34,13 @@ struct ReferenceReadOptions {
   /// The robot the caller expects (robot.yaml `name`), "" = any. A file that names another robot
   /// is an error; a file that names none gets this name. Also used in messages.
   std::string robot_name;
-  /// The robot's export joint order. Required for a plain CSV (no meta.json beside it) and for an
-  /// NPZ without `joint_names`. When the file names its joints, they must be the same set (any
-  /// order), else an InputError names the first joint that differs. Empty = no check.
+  /// The robot's export joint order. Required for a plain CSV (no meta.json beside it). When the
+  /// file names its joints, they must be the same set (any order), else an InputError names the
+  /// first joint that differs. Empty = no check.
   std::vector<std::string> joint_names;
+  /// The joint order of an NPZ without `joint_names`, as the user states it (`validate
+  /// --joint-order`); empty = such an NPZ is refused (the robot's order is never guessed).
+  std::vector<std::string> npz_joint_order;
   /// [Hz] Frame rate for files that do not state one (a plain CSV: the CLI's `--fps`); 0 = none.
   /// When the file states a rate too, the two must agree (relative 1e-9), else InputError.
   double fps = 0;

@@ -1,11 +1,10 @@
 #pragma once
 /// Bridges a Reference (joint columns by name, any order) and a RobotModel (generalised coordinates
-/// in model order): mapping, per-frame configurations and the forward-kinematics arrays of the NPZ.
+/// in model order): mapping and per-frame configurations (the NPZ body arrays: npz_layout.hpp).
 
 #include <vector>
 
 #include "retarget/model/robot_data.hpp"
-#include "retarget/reference/npz_body_arrays.hpp"
 #include "retarget/reference/reference.hpp"
 
 namespace rt {
@@ -34,9 +33,5 @@ Reference constant_reference(const RobotModel& model, const VecX& q, double dura
 /// positions and joints interpolated linearly, root orientation by slerp, contacts from the nearest
 /// frame, COM/COP linearly. Provenance (extra_meta_json) is kept.
 Reference retime_reference(const Reference& reference, double time_scale);
-
-/// World pose and velocity of every link over a reference (for the NPZ): body 0 is the root link,
-/// then the other links in URDF order; velocities by central differences at the reference rate.
-NpzBodyArrays compute_body_arrays(const RobotModel& model, RobotData& data, const Reference& reference);
 
 }  // namespace rt

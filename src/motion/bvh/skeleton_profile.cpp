@@ -184,6 +184,25 @@ std::vector<SkeletonProfile> make_builtin_profiles() {
        {L::LeftHand, {end_site("{s}Wrist")}}},
       {"RootJoint", "{s}ToeJoint", "pelvis_lowerback", "lowerback_torso", "torso_head", "{s}Torso_Clavicle"}));
 
+  // CMU ASF/AMC (the library's original skeleton, read through the equivalent BVH of
+  // asf_motion.hpp: a joint at every bone's start). lhipjoint runs from the root to the hip, so the
+  // femur starts at the hip centre; the head joint is the skull base, its End Site the top.
+  out.push_back(make_profile(
+      "cmu_asf",
+      {{L::Spine, {joint("upperback")}},
+       {L::Chest, {joint("thorax")}},
+       {L::Neck, {joint("upperneck"), joint("lowerneck")}},
+       {L::Head, {midpoint("head")}}},
+      {{L::LeftHip, {joint("{s}femur")}},
+       {L::LeftKnee, {joint("{s}tibia")}},
+       {L::LeftAnkle, {joint("{s}foot")}},
+       {L::LeftToe, {joint("{s}toes"), end_site("{s}foot")}},
+       {L::LeftShoulder, {joint("{s}humerus")}},
+       {L::LeftElbow, {joint("{s}radius")}},
+       {L::LeftWrist, {joint("{s}wrist")}},
+       {L::LeftHand, {joint("{s}fingers"), joint("{s}hand")}}},
+      {"{s}femur", "{s}tibia", "{s}humerus", "{s}radius", "thorax"}));
+
   // Ubisoft La Forge Animation Dataset (LAFAN1): Mixamo-like names without the ToeBase/Hand_End
   // joints; every End Site has a zero OFFSET, so the head landmark falls back to the Head joint and
   // the hand landmark is not available (as for Bandai Namco).

@@ -50,7 +50,7 @@ TEST(ClipDiscovery, FolderIsRecursiveCaseInsensitiveAndSorted) {
 TEST(ClipDiscovery, FolderErrors) {
   const std::string dir = scratch_dir();
   write_text(dir + "/empty/readme.txt", "");
-  EXPECT_NE(error_of([&] { discover_clips(dir + "/empty"); }).find("no .bvh or .c3d files"), std::string::npos);
+  EXPECT_NE(error_of([&] { discover_clips(dir + "/empty"); }).find("no .bvh, .c3d or .amc files"), std::string::npos);
   EXPECT_NE(error_of([&] { discover_clips(dir + "/missing"); }).find("no such file or folder"), std::string::npos);
   write_text(dir + "/one.bvh", "");
   EXPECT_NE(error_of([&] { discover_clips(dir + "/one.bvh"); }).find("retarget convert"), std::string::npos);

@@ -53,7 +53,7 @@ TEST(SkeletonProfile, BuiltinsAreWellFormed) {
     EXPECT_TRUE(p.landmarks[static_cast<std::size_t>(index(L::LeftHeel))].empty()) << p.name;
   }
   EXPECT_EQ(names, (std::vector<std::string>{"cmu_motionbuilder_2008", "cmu_motionbuilder_2010", "cmu_3dsmax", "cmu_daz",
-                                             "iclone_cc_base", "bandai_namco", "games105", "lafan1", "mixamo"}));
+                                             "iclone_cc_base", "bandai_namco", "games105", "cmu_asf", "lafan1", "mixamo"}));
 }
 
 TEST(SkeletonProfile, MixamoNamesMatchWithAndWithoutNamespaceAndAnyCase) {

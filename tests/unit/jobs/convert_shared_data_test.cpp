@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <map>
 #include <set>
@@ -22,7 +23,9 @@
 #include "retarget/model/robot_data.hpp"
 #include "retarget/model/robot_model.hpp"
 #include "retarget/passes/quality.hpp"
+#include "retarget/reference/reference_io.hpp"
 #include "shared_robots.hpp"
+#include "support/reference_score.hpp"
 #include "support/test_paths.hpp"
 
 namespace rt {
@@ -115,6 +118,13 @@ std::set<std::string> open_bars(const Case& c) {
   return out;
 }
 
+// "bvh/lafan1_dance1_subject2.bvh" -> "dance1_subject2" (the name of Unitree's LAFAN1 retarget of
+// the same take), "" for other clips.
+std::string lafan1_take(const std::string& clip) {
+  const std::string stem = std::filesystem::path(clip).stem().string();
+  return stem.rfind("lafan1_", 0) == 0 ? stem.substr(7) : std::string();
+}
+
 class ConvertSharedData : public ::testing::TestWithParam<Case> {};
 
 TEST_P(ConvertSharedData, MeetsTheQualityBounds) {
@@ -161,6 +171,40 @@ TEST_P(ConvertSharedData, MeetsTheQualityBounds) {
     if (bar("jitter")) {
       EXPECT_LT(q.jitter_rad_s3, q.jitter_per_frame_ik_rad_s3);
     }
+  }
+  // LAFAN1 clips with Unitree's own G1 retarget of the same clip beside them (issue 16): ours is
+  // no worse on skating p95, penetration and frame-0 tilt, scored on the same definitions and the
+  // same (our) stance phases; the common frames are compared (the tools' resampling may differ by
+  // the last frame).
+  const std::string unitree_csv = "retargeted/g1_lafan1_unitree/" + lafan1_take(c.clip) + ".csv";
+  if (std::string(c.robot) == "g1" && !lafan1_take(c.clip).empty() && !test::shared_data(unitree_csv).empty()) {
+    const RobotModel& g1 = test::shared_robot("g1");
+    ReferenceReadOptions read;
+    read.fps = r.clip.reference.fps;
+    read.joint_names = r.clip.reference.joint_names;
+    Reference theirs = read_reference(test::shared_data(unitree_csv), read);
+    Reference ours = r.clip.reference;
+    const int T = std::min(ours.num_frames(), theirs.num_frames());
+    ASSERT_LE(std::abs(ours.num_frames() - theirs.num_frames()), 1);
+    for (Reference* ref : {&ours, &theirs}) {
+      ref->root_pos_W.conservativeResize(3, T);
+      ref->root_quat_W.resize(static_cast<std::size_t>(T));
+      ref->joint_pos.conservativeResize(ref->joint_pos.rows(), T);
+      ref->com_W.resize(3, 0);
+      ref->cop_W.resize(2, 0);
+    }
+    std::array<std::vector<std::uint8_t>, 2> contacts = ours.contact;
+    for (auto& foot : contacts) foot.resize(static_cast<std::size_t>(T));
+    const test::ReferenceScore a = test::score_with_contacts(g1, ours, contacts);
+    const test::ReferenceScore b = test::score_with_contacts(g1, theirs, contacts);
+    std::cout << format("[ vs Unitree] %s: skating p95 %.4f / %.4f m, penetration %.4f / %.4f m, frame-0 tilt %.2f / %.2f deg, "
+                        "jitter %.0f / %.0f rad/s^3 (ours / Unitree's)\n",
+                        c.clip, a.feet.foot_skating_p95_m, b.feet.foot_skating_p95_m, a.feet.penetration_max_m,
+                        b.feet.penetration_max_m, a.feet.frame0_sole_tilt_deg, b.feet.frame0_sole_tilt_deg, a.jitter_rad_s3,
+                        b.jitter_rad_s3);
+    EXPECT_LE(a.feet.foot_skating_p95_m, b.feet.foot_skating_p95_m);
+    EXPECT_LE(a.feet.penetration_max_m, b.feet.penetration_max_m);
+    EXPECT_LE(a.feet.frame0_sole_tilt_deg, b.feet.frame0_sole_tilt_deg + 0.01);
   }
   std::cout << format("[ quality  ] %-10s %-52s%s landmark error median %.3f m p95 %.3f m, stance drift max %.4f m, "
                       "yaw max %.2f deg, lowest %.4f m, jitter %.0f (IK %.0f), %.0f ms\n",

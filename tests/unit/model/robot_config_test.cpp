@@ -86,7 +86,16 @@ TEST(RobotConfig, SchemaErrorsNameFileLineAndKeyPath) {
   const std::string base = kBase;
   expect_config_error(base + "feat: 1\n", 7,
                       "feat: unknown key (allowed: name, urdf, package_paths, feet, landmarks, base_orientation, joint_limits, export_joints, "
-                      "standing_pose, controller, simulation)");
+                      "npz_layout, standing_pose, controller, simulation)");
+  expect_config_error(base + "npz_layout: isaac\n", 7, "npz_layout: expected urdf, mjcf:FILE or names:FILE, got 'isaac'");
+  try {
+    parse_robot_config(base + "npz_layout: mjcf:no_such.xml\n", fake_path());
+    ADD_FAILURE() << "a missing layout file was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(":7: npz_layout: mjcf file not found"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(parse_robot_config(base + "npz_layout: names:mini_biped.urdf\n", fake_path()).npz_layout,
+            "names:" + fake_path("mini_biped.urdf"));
   expect_config_error("name: t\nurdf: mini_biped.urdf\nfeet:\n  left: {lnk: left_foot, sole: derive}\n", 4,
                       "feet.left.lnk: unknown key (allowed: link, sole)");
   expect_config_error(base + "landmarks:\n  pelvis: {link: pelvis, weight: abc}\n", 8,

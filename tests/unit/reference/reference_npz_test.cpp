@@ -159,11 +159,15 @@ TEST(ReferenceNpz, ReadsBeyondMimicFileWithoutNamesOrRootKeys) {
   const std::string bytes = npz::encode_npz(bm);
 
   ReferenceReadOptions o;
-  test::expect_input_error([&] { decode_reference_npz(bytes, "bm.npz", o); }, {"bm.npz [joint_names.npy]", "--robot"});
-  o.joint_names = {"a", "b", "c", "d"};
-  o.robot_name = "toy";
-  test::expect_input_error([&] { decode_reference_npz(bytes, "bm.npz", o); }, {"bm.npz@0x", "3 joint columns but robot toy has 4"});
+  test::expect_input_error([&] { decode_reference_npz(bytes, "bm.npz", o); }, {"bm.npz [joint_names.npy]", "--joint-order"});
+  // The robot's own order is not a stated order: still refused.
   o.joint_names = {"a", "b", "c"};
+  o.robot_name = "toy";
+  test::expect_input_error([&] { decode_reference_npz(bytes, "bm.npz", o); }, {"bm.npz [joint_names.npy]", "--joint-order"});
+  o.npz_joint_order = {"a", "b", "c", "d"};
+  test::expect_input_error([&] { decode_reference_npz(bytes, "bm.npz", o); },
+                           {"bm.npz@0x", "3 joint columns but the stated joint order has 4"});
+  o.npz_joint_order = {"a", "b", "c"};
   NpzBodyArrays back_b;
   const Reference back = decode_reference_npz(bytes, "bm.npz", o, &back_b);
   expect_equal_references(r, back);
