@@ -1,5 +1,5 @@
 #pragma once
-/// `com-plan` pass (issue 14, design.md §3.4; default, after refine and ground): makes the
+/// `com-plan` pass (issue 14, design.md §3.4; opt-in, after refine and ground): makes the
 /// exported motion dynamically feasible on flat ground by planning the whole clip's horizontal COM
 /// over its known footsteps and moving the body onto that plan.
 ///
@@ -17,10 +17,12 @@
 ///  4. Multibody correction (two-stage preview, Kajita et al. 2003): the whole-body ZMP of the
 ///     motion from 3 (centroidal.hpp) minus the plan's cart-table ZMP is the next plan's Δp; 2-4
 ///     repeat until that ZMP is inside the (unshrunk) support on every stance frame, or
-///     `iterations` times. The motion with the best ZMP is kept.
+///     `iterations` times. The round with the fewest stance frames outside is kept, if it holds
+///     the soles to `foot_tolerance` and beats the retargeted motion; otherwise the motion is
+///     left as it was (with a warning).
 ///
-/// The planned COM (3 x T: plan x, y; realised z) and the plan's ZMP go to the reference
-/// (meta.json `com_pos_w`, `zmp_w`; NPZ `com_pos_w`, `zmp_w`) as the balance reference.
+/// The planned COM (3 x T: plan x, y; the low-passed height) and the plan's ZMP go to the
+/// reference (meta.json and NPZ `com_pos_w`, `cop_ref_w`) as the balance reference.
 
 #include "retarget/balance/zmp_plan.hpp"
 #include "retarget/pipeline/pass.hpp"
