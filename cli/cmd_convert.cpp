@@ -7,6 +7,7 @@
 #include "cli/command.hpp"
 #include "cli/exit_codes.hpp"
 #include "cli/numeric_option.hpp"
+#include "cli/check_options.hpp"
 #include "cli/print_check.hpp"
 #include "cli/progress_line.hpp"
 #include "retarget/core/error.hpp"
@@ -35,6 +36,7 @@ struct ConvertOptions {
   bool list_passes = false;
   bool check = false;       // run the dynamics check on the result (issue 5)
   std::string report_dir;   // write the check's report folder here (implies --check)
+  CheckCliOptions check_options;
   std::vector<std::string> disabled;  // filled from the --no-<pass> flags
   std::vector<std::string> enabled;   // filled from the --<pass> flags of passes not in the default pipeline
 };
@@ -161,6 +163,7 @@ Command setup_convert(CLI::App& parent) {
                 "After converting, run the dynamics check on the result (as 'retarget validate'); exit 1 when it fails");
   app->add_option("--report", o->report_dir, "With --check: write report.json, report.txt and SVG plots into this folder "
                                              "(implies --check)");
+  add_check_options(app, o->check_options);
   app->footer("Exit status: 0 ok (and the check passed), 1 the check failed (outputs are written), 2 bad input.");
   return {app, [o, app] {
             if (o->list_passes) {
@@ -194,6 +197,7 @@ Command setup_convert(CLI::App& parent) {
             ValidateRequest check;
             check.reference_path = r.written.empty() ? r.output_stem : r.written.front();
             check.check = default_check_options(*model);
+            apply_check_options(o->check_options, check.check);
             std::cout << "\n";
             ProgressLine checking;
             checking.set(format("checking %s: simulating %.1f s of motion", clip_name.c_str(),

@@ -6,6 +6,7 @@
 
 #include "retarget/core/strings.hpp"
 
+#include "cli/check_options.hpp"
 #include "cli/command.hpp"
 #include "cli/exit_codes.hpp"
 #include "cli/numeric_option.hpp"
@@ -28,8 +29,7 @@ struct ValidateOptions {
   std::string joint_order;
   std::string report_dir;
   bool json = false;
-  bool no_dynamic_mapping = false;
-  bool no_trunk_mapping = false;
+  CheckCliOptions check;
   bool find_speed = false;
 };
 
@@ -47,8 +47,7 @@ Command setup_validate(CLI::App& parent) {
                   "Joint order of an NPZ without joint_names: an MJCF (.xml) or a YAML list of joint names");
   app->add_option("--report", o->report_dir, "Write report.json and SVG plots into this folder");
   app->add_flag("--json", o->json, "Print the report as JSON instead of the text summary");
-  app->add_flag("--no-dynamic-mapping", o->no_dynamic_mapping, "Turn off online COM re-planning (ablation)");
-  app->add_flag("--no-trunk-mapping", o->no_trunk_mapping, "Turn off trunk mapping on new contacts (ablation)");
+  add_check_options(app, o->check);
   app->add_flag("--find-speed", o->find_speed,
                 "Search (bisection over the time scale) for the fastest playback at which the check passes");
   app->add_option("--package-path", o->package_paths, "Extra root folder for package:// URIs (repeatable)");
@@ -61,8 +60,7 @@ Command setup_validate(CLI::App& parent) {
             request.fps = o->fps;
             request.joint_order_path = o->joint_order;
             request.check = default_check_options(*model);
-            request.check.dynamic_mapping = !o->no_dynamic_mapping;
-            request.check.trunk_mapping = !o->no_trunk_mapping;
+            apply_check_options(o->check, request.check);
             if (o->find_speed) {
               const Reference ref = read_reference_for(*model, o->reference, o->fps, o->joint_order);
               const SpeedSearchResult s = find_feasible_speed(ref, *model, request);

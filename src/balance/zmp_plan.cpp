@@ -21,7 +21,8 @@ struct Stencil {
 ZmpPlan plan_com_zmp(const std::vector<ZmpPlanSample>& samples, const ZmpPlanOptions& o) {
   const int K = static_cast<int>(samples.size());
   RT_DEMAND(K > 0, "plan_com_zmp: no samples");
-  RT_DEMAND(o.period_s > 0 && o.com_weight > 0 && o.jerk_weight >= 0 && o.flight_acceleration_weight >= 0,
+  RT_DEMAND(o.period_s > 0 && o.com_weight > 0 && o.jerk_weight >= 0 && o.flight_acceleration_weight >= 0 &&
+                o.zmp_centre_weight >= 0,
             "plan_com_zmp: invalid options");
   const double dt = o.period_s;
 
@@ -51,7 +52,8 @@ ZmpPlan plan_com_zmp(const std::vector<ZmpPlanSample>& samples, const ZmpPlanOpt
     }
   };
   for (int k = 0; k < K; ++k)
-    add_square({{k, 0, 0, 0}, {1, 0, 0, 0}, 1}, o.com_weight, samples[static_cast<std::size_t>(k)].com_ref_W);
+    add_square({{k, 0, 0, 0}, {1, 0, 0, 0}, 1}, o.com_weight * samples[static_cast<std::size_t>(k)].com_weight_scale,
+               samples[static_cast<std::size_t>(k)].com_ref_W);
   const double dt2 = dt * dt, dt3 = dt2 * dt;
   if (o.jerk_weight > 0)
     for (int k = 3; k < K; ++k)
@@ -69,6 +71,11 @@ ZmpPlan plan_com_zmp(const std::vector<ZmpPlanSample>& samples, const ZmpPlanOpt
     if (k == 0 || k == K - 1) return {{k, 0, 0, 0}, {1, 0, 0, 0}, 1};
     return {{k - 1, k, k + 1, 0}, {-h, 1 + 2 * h, -h, 0}, 3};
   };
+  if (o.zmp_centre_weight > 0)
+    for (int k = 0; k < K; ++k) {
+      const ZmpPlanSample& s = samples[static_cast<std::size_t>(k)];
+      if (!s.support.empty()) add_square(zmp_stencil(k), o.zmp_centre_weight, s.zmp_centre_W - s.zmp_offset_W);
+    }
   for (int k = 0; k < K; ++k) {
     const ZmpPlanSample& s = samples[static_cast<std::size_t>(k)];
     if (s.support.empty()) continue;

@@ -98,8 +98,18 @@ void TrackingController::contact_limits(TrackingProblem& p) const {
     return;
   }
   constexpr int kRows = 11;
-  p.C_contact.setZero(kRows * nc, p.nf);
-  p.d_contact.setZero(kRows * nc);
+  // Optional rows f_z ≤ f_max (−f_z ≥ −f_max) after the per-foot blocks.
+  int capped = 0;
+  for (int f : p.contact_feet) capped += std::isfinite(p.max_normal_force_n[static_cast<std::size_t>(f)]);
+  p.C_contact.setZero(kRows * nc + capped, p.nf);
+  p.d_contact.setZero(kRows * nc + capped);
+  for (int i = 0, row = kRows * nc; i < nc; ++i) {
+    const double f_max = p.max_normal_force_n[static_cast<std::size_t>(p.contact_feet[static_cast<std::size_t>(i)])];
+    if (!std::isfinite(f_max)) continue;
+    p.C_contact.block<1, 3>(row, 6 * i) = -p.R_contact_W[static_cast<std::size_t>(i)].col(2).transpose();
+    p.d_contact[row] = -std::max(f_max, o.min_normal_force_n);
+    ++row;
+  }
   const double mu = o.friction_margin * friction_ / std::sqrt(2.0);
   for (int i = 0; i < nc; ++i) {
     const Sole& sole = model_->soles()[static_cast<std::size_t>(p.contact_feet[static_cast<std::size_t>(i)])];
@@ -137,6 +147,7 @@ void TrackingController::build(RobotData& data, const VecXCRef& q, const VecXCRe
 
   p.nu = nu;
   p.contact = ref.contact;
+  p.max_normal_force_n = ref.max_normal_force_n;
   p.desired_cop_W = ref.desired_cop_W;
   p.M.resize(nv, nv);
   mj_fullM(m, p.M.data(), d->qM);  // symmetric: row- and column-major agree

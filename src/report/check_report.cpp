@@ -33,7 +33,7 @@ constexpr std::size_t kMaxListedReplanBursts = 6;
 const ViolationKind kAllKinds[] = {ViolationKind::Fall,          ViolationKind::CopNearEdge,
                                    ViolationKind::ContactNotAchieved, ViolationKind::LiftOffNotAchieved,
                                    ViolationKind::FootSlip,      ViolationKind::TorqueSaturation,
-                                   ViolationKind::JointLimit};
+                                   ViolationKind::JointLimit,    ViolationKind::HeavyCorrection};
 
 // ---- writing -----------------------------------------------------------------------------------
 
@@ -264,11 +264,22 @@ ReportInfo make_report_info(const std::string& robot, const std::string& referen
   info.reference_path = reference_path;
   info.dynamic_mapping = o.dynamic_mapping;
   info.trunk_mapping = o.trunk_mapping;
+  const std::string controller =
+      o.controller == CheckControllerKind::Paper
+          ? format("paper controller, re-planning N %d x %g ms, h_max %g, w %g", o.replan.horizon, o.replan.period_s * 1e3,
+                   o.replan.h_max, o.replan.w)
+          : format("walking controller, DCM gain %g /s, plan margin %g mm, COM-shift bound %g mm, foothold box %g mm",
+                   o.walking.dcm_gain, o.walking.plan.margin_m * 1e3, o.walking.plan.max_shift_m * 1e3,
+                   o.walking.foothold_box_m * 1e3);
   info.options_summary =
-      format("control %g ms, kp %g, kd %g; re-planning N %d x %g ms, h_max %g, w %g; COP margin %g mm, contact tolerance "
-             "%g s, slip %g m/s, settle %g s",
-             o.control_period_s * 1e3, o.tracking.kp, o.tracking.kd, o.replan.horizon, o.replan.period_s * 1e3,
-             o.replan.h_max, o.replan.w, o.cop_margin_m * 1e3, o.contact_tolerance_s, o.slip_speed_mps, o.settle_s);
+      format("%s; control %g ms, kp %g, kd %g; COP margin %g mm, contact tolerance %g s, slip %g m/s, settle %g s%s",
+             controller.c_str(), o.control_period_s * 1e3, o.tracking.kp, o.tracking.kd, o.cop_margin_m * 1e3,
+             o.contact_tolerance_s, o.slip_speed_mps, o.settle_s,
+             o.mass_scale != 1 || o.floor_friction > 0
+                 ? format("; simulated masses x%g, floor friction %s", o.mass_scale,
+                          o.floor_friction > 0 ? format("%g", o.floor_friction).c_str() : "as robot.yaml")
+                       .c_str()
+                 : "");
   return info;
 }
 
@@ -287,6 +298,21 @@ std::string format_check_summary(const DynamicsCheckResult& r, const ReportInfo&
   s += format("  control     %d saturated control cycle%s, %d trunk-mapping update%s, %zu COM re-plan%s\n",
               r.saturated_control_cycles, r.saturated_control_cycles == 1 ? "" : "s", r.trunk_mapping_updates,
               r.trunk_mapping_updates == 1 ? "" : "s", r.replans.size(), r.replans.size() == 1 ? "" : "s");
+  if (r.walking.used) {
+    const DynamicsCheckResult::WalkingStats& w = r.walking;
+    s += format("  balance     plan moved the COM by up to %.1f mm (RMS %.1f mm, at %.2f s)%s; %d receding re-plan%s, "
+                "%d foothold-adjusting cycle%s (largest %.1f mm), COP clamped in %.1f %% of cycles, DCM error max %.1f mm\n",
+                w.plan_max_shift_m * 1e3, w.plan_rms_shift_m * 1e3, w.plan_max_shift_time_s,
+                w.plan_max_violation_m < 0 ? ", no plan (solver failed)"
+                : w.plan_max_violation_m > 1e-4 ? format(", its ZMP up to %.1f mm outside the shrunk support", w.plan_max_violation_m * 1e3).c_str()
+                                                 : "",
+                w.replans, w.replans == 1 ? "" : "s", w.foothold_adjustments, w.foothold_adjustments == 1 ? "" : "s",
+                w.max_foothold_change_m * 1e3, w.cop_clamped_fraction * 100, w.max_dcm_error_m * 1e3);
+    if (w.lead_in_foot >= 0)
+      s += format("  lead-in     the clip starts with the %s foot %.0f mm in the air: it was put down and lifted into "
+                  "the first frame over %.2f s before t = 0\n",
+                  w.lead_in_foot == 0 ? "left" : "right", w.lead_in_foot_height_m * 1e3, w.lead_in_s);
+  }
   if (!r.replans.empty()) {
     const std::vector<report_detail::ReplanBurst> bursts = report_detail::replan_bursts(r.replans);
     std::string list;
@@ -380,6 +406,21 @@ std::string check_report_json(const DynamicsCheckResult& r, const ReportInfo& in
                       {"detail", v.detail},
                       {"fails_check", violation_fails_check(v.kind)}});
   j["violations"] = std::move(vs);
+  if (r.walking.used) {
+    const DynamicsCheckResult::WalkingStats& w = r.walking;
+    j["balance_plan"] = Json{{"max_com_shift_m", rounded(w.plan_max_shift_m)},
+                             {"rms_com_shift_m", rounded(w.plan_rms_shift_m)},
+                             {"max_com_shift_time_s", rounded(w.plan_max_shift_time_s)},
+                             {"zmp_violation_max_m", rounded(w.plan_max_violation_m)},
+                             {"receding_replans", w.replans},
+                             {"foothold_adjusting_cycles", w.foothold_adjustments},
+                             {"max_foothold_change_m", rounded(w.max_foothold_change_m)},
+                             {"cop_clamped_fraction", rounded(w.cop_clamped_fraction)},
+                             {"early_touchdown_cycles", w.early_touchdown_cycles},
+                             {"max_dcm_error_m", rounded(w.max_dcm_error_m)},
+                             {"lead_in_s", rounded(w.lead_in_s)},
+                             {"lead_in_foot", w.lead_in_foot < 0 ? Json(nullptr) : Json(w.lead_in_foot == 0 ? "left" : "right")}};
+  }
   Json rp = Json::array();
   for (const ReplanRecord& p : r.replans)
     rp.push_back(Json{{"t_s", rounded(p.t_s)},

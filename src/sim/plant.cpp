@@ -6,14 +6,40 @@
 
 namespace rt {
 
-Plant::Plant(const RobotModel& model) : model_(&model), d_(mj_makeData(model.mj())) {
+Plant::Plant(const RobotModel& model, const PlantOptions& options) : model_(&model) {
+  if (!(options.mass_scale > 0 && options.mass_scale <= 10 && options.floor_friction >= 0 && options.floor_friction <= 10))
+    throw InputError("check", "mass scale must be in (0, 10] and floor friction in [0, 10]");
+  m_ = model.mj();
+  if (options.mass_scale != 1 || options.floor_friction > 0) {
+    // The plant's own copy: the controllers keep the nominal model, as on a real robot whose
+    // masses or floor differ from its description.
+    owned_ = mj_copyModel(nullptr, model.mj());
+    if (!owned_) throw InternalError("Plant: mj_copyModel failed");
+    for (int b = 0; b < owned_->nbody; ++b) {
+      owned_->body_mass[b] *= options.mass_scale;
+      for (int k = 0; k < 3; ++k) owned_->body_inertia[3 * b + k] *= options.mass_scale;
+    }
+    // MuJoCo combines two geoms' sliding friction by their maximum: set it on every geom.
+    if (options.floor_friction > 0)
+      for (int g = 0; g < owned_->ngeom; ++g) owned_->geom_friction[3 * g] = options.floor_friction;
+    // Derived constants (subtree masses, ...) of the changed model.
+    mjData* scratch = mj_makeData(owned_);
+    if (!scratch) throw InternalError("Plant: mj_makeData failed");
+    mj_setConst(owned_, scratch);
+    mj_deleteData(scratch);
+    m_ = owned_;
+  }
+  d_ = mj_makeData(m_);
   if (!d_) throw InternalError("Plant: mj_makeData failed");
 }
 
-Plant::~Plant() { mj_deleteData(d_); }
+Plant::~Plant() {
+  mj_deleteData(d_);
+  if (owned_) mj_deleteModel(owned_);
+}
 
 void Plant::reset(const VecX& q, const VecX& v) {
-  const mjModel* m = model_->mj();
+  const mjModel* m = m_;
   RT_DEMAND(q.size() == m->nq && v.size() == m->nv, "Plant::reset: state size");
   mj_resetData(m, d_);
   mju_copy(d_->qpos, q.data(), m->nq);
@@ -26,12 +52,12 @@ void Plant::reset(const VecX& q, const VecX& v) {
 
 void Plant::begin_step() {
   RT_DEMAND(!step_begun_, "Plant::begin_step: the step has begun already");
-  mj_step1(model_->mj(), d_);
+  mj_step1(m_, d_);
   step_begun_ = true;
 }
 
 void Plant::step(const VecX& tau, int steps) {
-  const mjModel* m = model_->mj();
+  const mjModel* m = m_;
   RT_DEMAND(tau.size() == m->nu && steps >= 1, "Plant::step: torque size or step count");
   mju_copy(d_->ctrl, tau.data(), m->nu);
   for (int i = 0; i < steps; ++i) {
@@ -45,13 +71,13 @@ void Plant::step(const VecX& tau, int steps) {
   }
 }
 
-VecX Plant::q() const { return Eigen::Map<const VecX>(d_->qpos, model_->mj()->nq); }
-VecX Plant::v() const { return Eigen::Map<const VecX>(d_->qvel, model_->mj()->nv); }
+VecX Plant::q() const { return Eigen::Map<const VecX>(d_->qpos, m_->nq); }
+VecX Plant::v() const { return Eigen::Map<const VecX>(d_->qvel, m_->nv); }
 double Plant::time_s() const { return d_->time; }
 
 ContactState Plant::contacts() const {
   RT_DEMAND(!step_begun_, "Plant::contacts: read during a begun step");
-  const mjModel* m = model_->mj();
+  const mjModel* m = m_;
   ContactState s;
   Vec3 moment_sum = Vec3::Zero();
   std::array<Vec2, 2> foot_moment{{Vec2::Zero(), Vec2::Zero()}};

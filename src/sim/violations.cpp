@@ -13,6 +13,7 @@ const char* violation_name(ViolationKind kind) {
     case ViolationKind::FootSlip: return "foot-slip";
     case ViolationKind::TorqueSaturation: return "torque-saturation";
     case ViolationKind::JointLimit: return "joint-limit";
+    case ViolationKind::HeavyCorrection: return "heavy-correction";
   }
   return "?";
 }
@@ -20,7 +21,7 @@ const char* violation_name(ViolationKind kind) {
 bool violation_kind_from_name(const std::string& name, ViolationKind& kind) {
   for (ViolationKind k : {ViolationKind::Fall, ViolationKind::CopNearEdge, ViolationKind::ContactNotAchieved,
                           ViolationKind::LiftOffNotAchieved, ViolationKind::FootSlip, ViolationKind::TorqueSaturation,
-                          ViolationKind::JointLimit})
+                          ViolationKind::JointLimit, ViolationKind::HeavyCorrection})
     if (name == violation_name(k)) {
       kind = k;
       return true;
@@ -30,7 +31,7 @@ bool violation_kind_from_name(const std::string& name, ViolationKind& kind) {
 
 bool violation_fails_check(ViolationKind kind) {
   return kind == ViolationKind::Fall || kind == ViolationKind::ContactNotAchieved ||
-         kind == ViolationKind::LiftOffNotAchieved;
+         kind == ViolationKind::LiftOffNotAchieved || kind == ViolationKind::HeavyCorrection;
 }
 
 ViolationTracker::ViolationTracker(ViolationKind kind, std::string unit, double min_duration_s)

@@ -10,6 +10,7 @@
 /// problem is a sparse QP (sparse_qp.hpp):
 ///
 ///     minimise  ½ Σ_k w_c ‖c_k − c_ref,k‖² + ½ Σ_k w_j ‖c⃛_k‖² + ½ Σ_flight w_a ‖c̈_k‖²
+///               + ½ Σ_support w_z ‖p_k − p_centre,k‖²
 ///     subject to  n_iᵀ p_k ≤ d_i  for every half-plane of sample k's polygon,
 ///
 /// the constraints soft with the quadratic penalty ½ w_e max(0, n_iᵀp_k − d_i)² (sparse_qp.hpp): an
@@ -35,6 +36,11 @@ struct ZmpPlanSample {
   double zmp_gain_s2 = 0;             ///< h_k = z / (g + z̈) [s²]
   Vec2 zmp_offset_W = Vec2::Zero();   ///< [m] Δp_k, multibody correction
   std::vector<HalfPlane> support;     ///< ZMP constraints nᵀp ≤ d (empty: flight)
+  /// Multiplies w_c at this sample: large values pin the plan to com_ref_W there (a receding-horizon
+  /// window starting from a measured state).
+  double com_weight_scale = 1.0;
+  /// Where the ZMP is pulled to by ZmpPlanOptions::zmp_centre_weight (e.g. the polygon's centroid).
+  Vec2 zmp_centre_W = Vec2::Zero();
 };
 
 struct ZmpPlanOptions {
@@ -44,6 +50,10 @@ struct ZmpPlanOptions {
   /// (w_c / w_j)^(1/6) rad/s: 2e-8 gives 19 rad/s (3 Hz), above walking's COM content (≤ 2 Hz).
   double jerk_weight = 2e-8;
   double flight_acceleration_weight = 1e-3;  ///< w_a [s⁴/m²] on flight samples
+  /// w_z [1/m²] on ‖p_k − zmp_centre_k‖² for samples with support: a plan that tracks the COM alone
+  /// shifts the weight as late as it can, with its ZMP on the polygon's edge, and leaves a
+  /// controller no margin; 0 (the default) leaves the cost as above.
+  double zmp_centre_weight = 0;
   /// w_e [1/m²]: 1e6 makes 1 mm outside cost as much as a 1 m COM shift.
   double violation_weight = 1e6;
   bool rest_at_start = true;

@@ -14,6 +14,7 @@
 /// about the desired COP, N − r_b × F (the same matrix with the sign of r_b flipped).
 
 #include <array>
+#include <limits>
 #include <vector>
 
 #include "retarget/control/dense_qp.hpp"
@@ -87,12 +88,16 @@ struct TrackingReference {
   std::array<Vec6, 2> a_sole{{Vec6::Zero(), Vec6::Zero()}};
   std::array<bool, 2> contact{{true, true}};  ///< feet allowed to exert contact wrenches
   Vec2 desired_cop_W = Vec2::Zero();          ///< r_b from the balance controller
+  /// [N] upper bound on each foot's normal force (a contact-limit row f_z ≤ max when finite and the
+  /// limits are enabled): ramps the load in and out at contact changes.
+  std::array<double, 2> max_normal_force_n{{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()}};
 };
 
 /// Everything the quadratic form is built from; exposed so that tests can check each term.
 struct TrackingProblem {
   std::array<bool, 2> contact{{true, true}};  ///< feet in contact (select the W_c weights)
   std::vector<int> contact_feet;  ///< feet with a wrench in f_c, in order
+  std::array<double, 2> max_normal_force_n{{0, 0}};  ///< from the reference
   int nu = 0, nf = 0;             ///< sizes of τ_J and f_c
   VecX qdd_desired;               ///< q̈̂' (nv)
   std::array<Vec6, 2> rdd_desired;///< r̈̂ per foot

@@ -19,6 +19,8 @@ class ReferenceRobotMap {
   VecX q(const Reference& reference, int frame) const;
   /// All frames as an nq x T matrix.
   MatX q_all(const Reference& reference) const;
+  /// The reference row (joint_pos) of movable joint i (model order).
+  int column_of_movable(int i) const { return column_of_movable_[static_cast<std::size_t>(i)]; }
 
  private:
   const RobotModel* model_;

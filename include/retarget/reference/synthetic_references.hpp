@@ -24,4 +24,23 @@ struct FootLiftOptions {
 /// whose contact schedule marks the lifted foot in swing during the lift interval.
 Reference foot_lift_reference(const RobotModel& model, const FootLiftOptions& options = {});
 
+/// A straight walk (issue 15's synthetic walk): stand, `steps` steps of `step_s` each (double support
+/// then single support), the last one bringing the feet side by side, stand again. The COM is a
+/// whole-walk ZMP plan (zmp_plan.hpp) whose ZMP stays inside the stance soles shrunk by
+/// `zmp_margin_m`, so the reference is dynamically feasible by construction (up to the legs'
+/// angular momentum); the joints come from IK with the soles on their footsteps, the swing foot on
+/// a smooth arc, the COM on the plan at the standing height, and the trunk upright.
+struct WalkOptions {
+  int steps = 6;
+  double step_length_m = 0.15;   ///< [m] advance of the swing foot past the other foot
+  double step_s = 0.5;           ///< [s] one step: double support, then single support
+  double double_support_s = 0.1; ///< [s]
+  double swing_height_m = 0.04;  ///< [m] sole lift at mid-swing
+  double stand_s = 1.0;          ///< [s] standing before the first and after the last step
+  double zmp_margin_m = 0.02;    ///< [m]
+  double fps = 100.0;
+  int first_foot = 1;            ///< 0 left, 1 right steps first
+};
+Reference walk_reference(const RobotModel& model, const WalkOptions& options = {});
+
 }  // namespace rt

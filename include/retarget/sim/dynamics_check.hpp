@@ -1,8 +1,15 @@
 #pragma once
-/// The dynamics check (design.md §3.5, paper §IV–VII): simulate a reference in MuJoCo through the
-/// balance controller (LQR + observer, eq. 1) and the tracking controller (eq. 2–19), with trunk
-/// mapping (eq. 20–24) and online dynamic mapping (COM re-planning, eq. 25–34), and report every
-/// balance violation with its time span and magnitude.
+/// The dynamics check (design.md §3.5, paper §IV–VII): simulate a reference in MuJoCo through a
+/// controller and report every balance violation with its time span and magnitude.
+///
+/// The closed loop (dynamics_check.cpp) is a short composition: the Plant (plant.hpp) is measured,
+/// a CheckController (check_controller.hpp) maps the reference and computes torques, and the
+/// ViolationMonitor (violation_monitor.hpp) judges what happened. Controllers:
+///  - walking (default, walking_controller.hpp): whole-clip COM/ZMP plan, DCM tracking with the
+///    commanded COP clamped into the loaded support, receding-horizon re-planning, foothold
+///    adjustment, force ramps at contact changes, blended trunk mapping;
+///  - paper (paper_controller.hpp): LQR pendulum balance (eq. 1), trunk mapping (eq. 20–24) and
+///    online dynamic mapping (eq. 25–34); both use the tracking controller (eq. 2–19).
 
 #include <array>
 #include <string>
@@ -14,19 +21,34 @@
 #include "retarget/control/trunk_mapping.hpp"
 #include "retarget/reference/reference.hpp"
 #include "retarget/sim/violations.hpp"
+#include "retarget/sim/walking_controller.hpp"
 
 namespace rt {
 
 class RobotModel;
 
+enum class CheckControllerKind { Walking, Paper };
+
+/// "walking", "paper".
+const char* check_controller_name(CheckControllerKind kind);
+
 struct DynamicsCheckOptions {
+  CheckControllerKind controller = CheckControllerKind::Walking;
+  WalkingControllerOptions walking;  ///< the walking controller's (its tracking gains are `tracking`)
+  /// Robustness runs: the simulated robot's masses and inertias scaled, and the floor's sliding
+  /// friction set (> 0), while the controller keeps the nominal model (plant.hpp).
+  double mass_scale = 1.0;
+  double floor_friction = 0;
   double control_period_s = 0.002;  ///< controller period; the simulation step is the robot's timestep (1 ms)
   /// [s] holding the first frame before the clip starts. Times in the result are clip times, so a
   /// violation or re-plan during the settle phase has a negative time (down to -settle_s): a span
   /// "-0.434-0.660 s" began 0.434 s before the clip's first frame.
   double settle_s = 0.5;
-  bool trunk_mapping = true;        ///< paper §V-B
-  bool dynamic_mapping = true;      ///< online COM re-planning (paper §VI); false for ablations
+  bool trunk_mapping = true;        ///< paper §V-B (both controllers)
+  /// Online COM re-planning (paper §VI; the walking controller's receding-horizon planner); false
+  /// for ablations.
+  bool dynamic_mapping = true;
+  // The paper controller's options:
   /// Balance controller tracks the pendulum state of the reference COM motion (feed-forward,
   /// balance_controller.hpp) instead of regulating to each reference COM as if at rest (the
   /// paper's eq. 1, which lags a moving reference by about its velocity × 0.3 s).
@@ -123,6 +145,24 @@ struct DynamicsCheckResult {
     int max_qp_iterations = 0;
     long qp_failures = 0;
   } force_feasibility;
+  /// The walking controller's own statistics (used = false for the paper controller).
+  struct WalkingStats {
+    bool used = false;
+    /// How far the whole-clip balance plan moved the reference's COM [m] (max at max_time_s), and
+    /// how far its ZMP stays outside the shrunk support at worst (−1: no plan, reference as is).
+    double plan_max_shift_m = 0, plan_rms_shift_m = 0, plan_max_shift_time_s = 0, plan_max_violation_m = 0;
+    int replans = 0;                 ///< receding-horizon re-plans
+    int foothold_adjustments = 0;    ///< control cycles that moved a touchdown
+    double max_foothold_change_m = 0;
+    double cop_clamped_fraction = 0; ///< of control cycles: the DCM law asked for a COP outside the support
+    long early_touchdown_cycles = 0; ///< control cycles with a swing foot treated as landed early
+    double max_dcm_error_m = 0;
+    /// Standing lead-in before the clip (lead_in.hpp): its duration, the foot put down (−1: none)
+    /// and how high that foot was at frame 0.
+    double lead_in_s = 0;
+    int lead_in_foot = -1;
+    double lead_in_foot_height_m = 0;
+  } walking;
   DynamicsTrace trace;
 };
 

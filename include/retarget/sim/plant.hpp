@@ -27,9 +27,16 @@ struct ContactState {
   std::vector<int> non_sole_links;    ///< links (other than the soles) touching the floor
 };
 
+/// Differences of the simulated robot from its model (robustness runs of the check): the
+/// controllers keep the nominal model.
+struct PlantOptions {
+  double mass_scale = 1.0;     ///< every body's mass and inertia scaled by this
+  double floor_friction = 0;   ///< > 0: sliding friction of every contact (else the robot.yaml value)
+};
+
 class Plant {
  public:
-  explicit Plant(const RobotModel& model);
+  explicit Plant(const RobotModel& model, const PlantOptions& options = {});
   ~Plant();
   Plant(const Plant&) = delete;
   Plant& operator=(const Plant&) = delete;
@@ -55,10 +62,15 @@ class Plant {
 
   const RobotModel& model() const { return *model_; }
   const mjData* mj() const { return d_; }
+  /// Whether the simulated model is the robot's own (no mass scale or friction change): then the
+  /// plant's mjData may stand in for the controller's dynamics of the same state.
+  bool nominal() const { return owned_ == nullptr; }
 
  private:
   const RobotModel* model_;
-  mjData* d_;
+  const mjModel* m_ = nullptr;   ///< the simulated model: the robot's, or owned_
+  mjModel* owned_ = nullptr;
+  mjData* d_ = nullptr;
   bool unstable_ = false;
   bool step_begun_ = false;
 };

@@ -15,13 +15,16 @@ enum class ViolationKind {
   FootSlip,            ///< a loaded stance foot slides
   TorqueSaturation,    ///< a commanded torque exceeded the joint's effort limit (clamped)
   JointLimit,          ///< a joint reached its position limit
+  /// The walking controller's balance plan had to move the reference's COM by more than its bound
+  /// (BalancePlanOptions::max_shift_m): the reference is not feasible as exported.
+  HeavyCorrection,
 };
 
 /// "fall", "cop-near-edge", ... (stable names used in report.json and summaries).
 const char* violation_name(ViolationKind kind);
 /// Inverse of violation_name: the kind named `name`; false when no kind has that name.
 bool violation_kind_from_name(const std::string& name, ViolationKind& kind);
-/// Whether this kind fails the check (exit status 1): falls and unmet contacts.
+/// Whether this kind fails the check (exit status 1): falls, unmet contacts, heavy correction.
 bool violation_fails_check(ViolationKind kind);
 
 struct Violation {

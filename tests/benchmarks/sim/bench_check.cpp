@@ -1,6 +1,7 @@
-// Benchmark of the dynamics check (design.md §7, issues 5 and 6): real-time factor of the closed
-// loop (1 ms simulation, 2 ms control) per robot, single thread, and the cost of the online COM
-// re-planner while it is active (foot-lift reference: re-planning runs from t = 0.5 s).
+// Benchmark of the dynamics check (design.md §7, issues 5, 6 and 15): real-time factor of the
+// closed loop (1 ms simulation, 2 ms control) per robot, single thread: the walking controller on
+// the synthetic walk (also at 1 ms control), the paper controller standing, and the cost of the
+// paper's online COM re-planner while it is active (foot-lift reference: from t = 0.5 s).
 // Usage: bench_check [runs] [robot ...]   (defaults: 5 runs; humanoid25 g1)
 
 #include <algorithm>
@@ -24,7 +25,27 @@ int main(int argc, char** argv) {
   try {
     for (const std::string& name : robots) {
       const auto model = RobotModel::load(name);
-      const DynamicsCheckOptions o = default_check_options(*model);
+      // The walking controller (the default) on the synthetic walk, at control periods of 2 ms (the
+      // default) and 1 ms.
+      const Reference walk = walk_reference(*model);
+      for (const double period : {0.002, 0.001}) {
+        DynamicsCheckOptions w = default_check_options(*model);
+        w.control_period_s = period;
+        double walk_sim_s = 0;
+        bool passed = false;
+        auto times = bench::time_runs(runs, [&] {
+          const DynamicsCheckResult r = run_dynamics_check(*model, walk, w);
+          walk_sim_s = r.simulated_s + w.settle_s;
+          passed = r.passed;
+        });
+        const double fastest = *std::min_element(times.begin(), times.end());
+        std::printf("%-12s walking controller, synthetic walk %.1f s, control %.0f ms: median %.3f s wall, real-time factor "
+                    "%.1fx (fastest run %.1fx; %d runs; %s)\n",
+                    name.c_str(), walk.duration_s(), period * 1e3, bench::median(times), walk_sim_s / bench::median(times),
+                    walk_sim_s / fastest, runs, passed ? "passed" : "FAILED");
+      }
+      DynamicsCheckOptions o = default_check_options(*model);
+      o.controller = CheckControllerKind::Paper;  // the paper controller's figures below
       const Reference standing = constant_reference(*model, model->standing_q(), 10.0, 30.0);
       double sim_s = 0;
       auto rtf_times = bench::time_runs(runs, [&] {

@@ -1,0 +1,17 @@
+#pragma once
+/// Sole frames on a flat floor, shared by the check's controllers and its monitor.
+
+#include <array>
+
+#include "retarget/core/types.hpp"
+#include "retarget/model/robot_model.hpp"
+
+namespace rt {
+
+/// Corners of a sole rectangle at the sole frame `X_W_sole` (x forward, z normal, at its centre).
+std::array<Vec3, 4> sole_corners_W(const Iso3& X_W_sole, const Sole& sole);
+
+/// The same sole frame laid flat on the floor (z = 0), keeping its heading.
+Iso3 flat_on_floor(const Iso3& X_W_sole);
+
+}  // namespace rt

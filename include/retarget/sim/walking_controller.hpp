@@ -1,0 +1,119 @@
+#pragma once
+/// The walking controller of the dynamics check (issue 15; `--controller walking`, the default).
+///
+/// Structure per control cycle (W frame, horizontal components unless said otherwise):
+///  1. Mapping. The reference is trunk-mapped on new contacts (paper eq. 20–24, translation and yaw
+///     only by default), the change blended in over `trunk_blend_s` instead of jumping. Before the
+///     simulation the reference went through the whole-clip COM/ZMP plan (balance_plan.hpp): planned
+///     COM c_p, its velocity ċ_p, planned ZMP p_p and the multibody offset Δp.
+///  2. Balance by divergent-component-of-motion (capture point) tracking, ω = √(g / z_c):
+///         ξ = c + ċ/ω,   ξ_p = c_p + ċ_p/ω,
+///         p_des = p_p + (1 + k_ξ/ω)(ξ − ξ_p)          (so that ξ̇ − ξ̇_p = −k_ξ (ξ − ξ_p)),
+///     clamped into the support polygon of the feet that are actually loaded; the COM acceleration
+///     this COP gives, c̈ = ω² (c − p_des + Δp), is the trunk's horizontal feed-forward. The closed
+///     loop is linear (a first-order DCM error) wherever the clamp is inactive, so the online planner
+///     can preview it.
+///  3. Online re-planning (receding horizon, `replan_*`): when the DCM error, decaying under that
+///     loop, would need a COP outside the predicted support within the window, the COM plan over the
+///     window is re-solved as a small soft-constrained QP from the measured state (COP inside each
+///     window sample's support polygon, COM jerk penalised, pulled back to the plan at its end). On a
+///     feasible reference the error stays small and the planner does not fire.
+///  4. Foothold adjustment: when the DCM error exceeds `foothold_threshold_m` during a swing, the
+///     touchdown of the swinging foot moves by the error predicted at touchdown, clamped to a box of
+///     ±`foothold_box_m`; the swing trajectory blends the change in over the rest of the swing and
+///     the trunk mapping at that touchdown carries it into the reference.
+///  5. Contact transitions: the normal force a foot may be commanded ramps from 0 to the full weight
+///     over `force_ramp_s` after a reference touchdown and back to 0 over `force_ramp_s` before a
+///     lift-off; swing feet are tracked in task space by the tracking controller (eq. 4–5).
+///  6. Tracking controller (eq. 2–19, with contact-wrench limits) for the torques.
+
+#include <array>
+#include <optional>
+#include <vector>
+
+#include "retarget/control/trunk_mapping.hpp"
+#include "retarget/sim/balance_plan.hpp"
+#include "retarget/sim/check_controller.hpp"
+
+namespace rt {
+
+struct DynamicsCheckOptions;
+
+struct WalkingControllerOptions {
+  BalancePlanOptions plan;          ///< whole-clip plan before the simulation
+  /// [s] a clip that starts with one foot in the air gets a standing lead-in (lead_in.hpp) that
+  /// lifts that foot into frame 0 over this time.
+  double lead_in_lift_s = 0.3;
+  double dcm_gain = 3.0;            ///< k_ξ [1/s]: DCM error decay rate
+  double cop_clamp_margin_m = 0.005;///< [m] the commanded COP stays this far inside the loaded support
+  double force_ramp_s = 0.06;       ///< [s] normal-force ramp at touchdown and lift-off
+  /// [s] a swing foot that lands this close to its reference touchdown becomes a stance foot.
+  double early_touchdown_s = 0.15;
+  double trunk_blend_s = 0.25;      ///< [s] trunk-mapping changes are blended in over this time
+  TrunkMappingOptions trunk = [] {
+    TrunkMappingOptions t;
+    t.max_scale = 1.0;              // translation and yaw only: a walk's stance width is not a scale
+    return t;
+  }();
+  // Online re-planning.
+  bool replan = true;
+  double replan_period_s = 0.05;    ///< [s] how often the prediction is checked
+  double replan_horizon_s = 0.8;    ///< [s] window (on the plan's grid, so its ZMP is the plan's)
+  /// [m] DCM error below which the plan is kept: a feasible reference tracked well never re-plans.
+  double replan_error_m = 0.02;
+  // Foothold adjustment.
+  bool foothold_adjustment = true;
+  double foothold_threshold_m = 0.02;  ///< [m] DCM error that triggers an adjustment
+  double foothold_box_m = 0.05;        ///< [m] largest change of a touchdown, per axis
+};
+
+class WalkingController final : public CheckController {
+ public:
+  /// `signal` and `options` must outlive the controller.
+  WalkingController(const RobotModel& model, const ReferenceSignal& signal, const DynamicsCheckOptions& options);
+
+  void control(const ControlInput& in, ControlOutput& out) override;
+  bool planner_active() const override { return replan_count_ > 0; }
+  void finish(DynamicsCheckResult& result) const override;
+
+  const BalancePlan& plan() const { return plan_; }
+
+ private:
+  TrunkTransform current_map(double t_sim) const;
+  /// Reference contact run of `foot` around frame k: [start, end] frames.
+  std::pair<int, int> contact_run(int foot, int k) const;
+  double max_normal_force(int foot, double t_ref) const;
+  void maybe_replan(const ControlInput& in, const TrunkTransform& map, const Vec2& xi, double omega);
+  /// Plan quantities at clip time t including online corrections, mapped.
+  Vec2 planned_com(double t, const TrunkTransform& map) const;
+  Vec2 planned_com_velocity(double t, const TrunkTransform& map) const;
+  Vec2 planned_zmp(double t, const TrunkTransform& map) const;
+
+  const RobotModel* model_;
+  const ReferenceSignal* signal_;
+  const DynamicsCheckOptions* o_;
+  const WalkingControllerOptions* w_;
+  TrackingController tracking_;
+  BalancePlan plan_;
+  Eigen::Matrix2Xd plan_delta_;  ///< online corrections of the planned COM on the plan grid (unmapped)
+  double weight_n_ = 0;
+  std::array<Mat3, 2> R_L_sole_;
+  // Trunk mapping with blending.
+  TrunkTransform map_from_, map_to_;
+  double blend_start_s_ = -1e9;
+  std::array<bool, 2> prev_contact_{};
+  bool contact_change_pending_ = false;
+  std::array<std::optional<Iso3>, 2> stance_pose_;
+  // Foothold adjustment of the current swing, per foot (W, horizontal).
+  std::array<Vec2, 2> foothold_offset_{{Vec2::Zero(), Vec2::Zero()}};
+  std::array<double, 2> foothold_start_s_{{0, 0}};
+  double next_replan_s_ = 0;
+  TrackingProblem problem_;
+  TrackingWorkspace workspace_;
+  // Statistics.
+  int replan_count_ = 0, trunk_mapping_updates_ = 0, foothold_adjustments_ = 0;
+  long clamped_cycles_ = 0, cycles_ = 0, early_touchdown_cycles_ = 0;
+  double max_foothold_change_m_ = 0, planner_wall_s_ = 0, max_dcm_error_m_ = 0;
+};
+
+}  // namespace rt

@@ -1,0 +1,21 @@
+#include "retarget/sim/sole_geometry.hpp"
+
+#include <cmath>
+
+namespace rt {
+
+std::array<Vec3, 4> sole_corners_W(const Iso3& X_W_sole, const Sole& sole) {
+  const double hx = 0.5 * sole.size_m.x(), hy = 0.5 * sole.size_m.y();
+  return {X_W_sole * Vec3(hx, hy, 0), X_W_sole * Vec3(-hx, hy, 0), X_W_sole * Vec3(-hx, -hy, 0),
+          X_W_sole * Vec3(hx, -hy, 0)};
+}
+
+Iso3 flat_on_floor(const Iso3& X) {
+  const Vec3 x = X.linear().col(0);
+  Iso3 out = Iso3::Identity();
+  out.linear() = AngleAxis(std::atan2(x.y(), x.x()), Vec3::UnitZ()).toRotationMatrix();
+  out.translation() = Vec3(X.translation().x(), X.translation().y(), 0.0);
+  return out;
+}
+
+}  // namespace rt
