@@ -1,4 +1,4 @@
-// Issue 6: the project's slow-steps example (four slow steps, the weight shifted over the stance
+// Issue 6: the project's slow-steps example (with the paper's controller, `--controller paper`) (four slow steps, the weight shifted over the stance
 // foot before every lift) through the default pipeline and the dynamics check, on humanoid25 and G1.
 // With dynamic mapping (the default) it passes on both. Since the refine pass holds the stance soles
 // flat and fixed on every frame (issue 13), humanoid25 passes without dynamic mapping too (before,
@@ -39,9 +39,11 @@ const Reference& slow_steps_reference(const std::string& robot) {
   return it->second;
 }
 
-DynamicsCheckResult check_slow_steps(const std::string& robot, bool dynamic_mapping) {
+DynamicsCheckResult check_slow_steps(const std::string& robot, bool dynamic_mapping,
+                                     CheckControllerKind controller = CheckControllerKind::Paper) {
   const RobotModel& model = test::shared_robot(robot);
   DynamicsCheckOptions o = default_check_options(model);
+  o.controller = controller;
   o.dynamic_mapping = dynamic_mapping;
   return run_dynamics_check(model, slow_steps_reference(robot), o);
 }
@@ -63,6 +65,16 @@ TEST_P(SlowSteps, PassesWithDynamicMapping) {
   EXPECT_NEAR(r.simulated_s, r.clip_duration_s, 0.01);
   EXPECT_GT(r.replans.size(), 0u);  // the re-planner is active
   EXPECT_LT(r.com_rms_error_m, 0.05);
+}
+
+// Issue 15: the walking controller (the default) passes them too.
+TEST_P(SlowSteps, PassesWithTheWalkingController) {
+  if (slow_steps_reference(GetParam()).num_frames() == 0) GTEST_SKIP() << "shared robot data absent";
+  const DynamicsCheckResult r = check_slow_steps(GetParam(), true, CheckControllerKind::Walking);
+  EXPECT_TRUE(r.passed) << failing(r);
+  EXPECT_NEAR(r.simulated_s, r.clip_duration_s, 0.01);
+  EXPECT_TRUE(r.walking.used);
+  EXPECT_LT(r.walking.plan_max_shift_m, 0.08);
 }
 
 TEST(SlowStepsHumanoid25, WithoutDynamicMappingItPassesToo) {

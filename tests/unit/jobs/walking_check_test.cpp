@@ -1,14 +1,14 @@
-// Issue 6: the full pipeline + dynamics check on the real walking clips, for humanoid25 and G1, with
-// the outcomes pinned so that they cannot change silently (in either direction: a clip that starts
-// passing must update this file and the README's table too).
+// Issue 6 / issue 15: the full pipeline + dynamics check on the real walking clips, for humanoid25
+// and G1, with the outcomes pinned so that they cannot change silently (in either direction: a clip
+// that starts passing must update this file and the README's table too).
 //
-// Measured outcome (README, "What the check finds on real clips"): every one of these walks
-// fails in its first step at 1x, and no playback speed between 2x and 0.25x passes. A human walk keeps
-// the COM between the feet in single support (it falls onto the next foot); the paper's COM
-// re-planning moves the COM within the given footholds, which targets quasi-static motion (foot
-// lift, slow weight shifts), not a dynamic gait. So what is pinned: fails at 1x, the first
-// failing violation starts in the first 1.5 s of the clip, and --find-speed finds no passing speed.
-// Skips cleanly without ../shared/data.
+// Measured outcome with the walking controller (README, "What the check finds on real clips"):
+// every one of these walks still fails at 1x, and no playback speed between 2x and 0.25x passes.
+// The check's balance plan needs COM shifts of 5-34 cm to make the default pipeline's walks
+// feasible (their multibody ZMP leaves the stance sole in single support: issue 14), and even the
+// nearly feasible ones fall within a few steps (issue 15 is open). So what is pinned: fails at 1x,
+// the first failing violation starts in the first 6 s of the clip, and --find-speed finds no
+// passing speed. Skips cleanly without ../shared/data.
 
 #include <gtest/gtest.h>
 
@@ -65,7 +65,7 @@ TEST_P(WalkingCheck, OutcomeIsPinned) {
   for (const Violation& v : at_1x.violations)
     if (violation_fails_check(v.kind) && (!first || v.start_s < first->start_s)) first = &v;
   ASSERT_NE(first, nullptr) << "failed without a failing violation";
-  EXPECT_LT(first->start_s, 1.5) << violation_name(first->kind) << ": " << first->detail;
+  EXPECT_LT(first->start_s, 6.0) << violation_name(first->kind) << ": " << first->detail;
   EXPECT_TRUE(std::isfinite(at_1x.joint_rms_error_rad));
 
   const SpeedSearchResult speed = find_feasible_speed(reference, model, request);

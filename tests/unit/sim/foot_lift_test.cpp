@@ -51,6 +51,7 @@ TEST_P(FootLift, WithoutDynamicMappingTheFootCannotLiftSafely) {
   const auto model = load();
   if (!model) GTEST_SKIP() << "shared robot data absent";
   DynamicsCheckOptions o = default_check_options(*model);
+  o.controller = CheckControllerKind::Paper;  // the paper's Fig. 7 ablation
   o.dynamic_mapping = false;
   const DynamicsCheckResult r = run_dynamics_check(*model, foot_lift_reference(*model), o);
   EXPECT_FALSE(r.passed);
@@ -64,7 +65,8 @@ TEST_P(FootLift, WithoutDynamicMappingTheFootCannotLiftSafely) {
 TEST_P(FootLift, WithDynamicMappingReproducesFigure7) {
   const auto model = load();
   if (!model) GTEST_SKIP() << "shared robot data absent";
-  const DynamicsCheckOptions o = default_check_options(*model);
+  DynamicsCheckOptions o = default_check_options(*model);
+  o.controller = CheckControllerKind::Paper;  // the paper's Fig. 7
   const DynamicsCheckResult r = run_dynamics_check(*model, foot_lift_reference(*model), o);
   for (const Violation& v : r.violations)
     if (violation_fails_check(v.kind)) ADD_FAILURE() << violation_name(v.kind) << " at " << v.start_s << " s: " << v.detail;

@@ -1,0 +1,199 @@
+// Issue 15: the walking controller of the dynamics check. A synthetic walk (0.5 s steps, 0.1 s
+// double support; walk_reference, also written by tests/benchmarks/sim/make_synthetic_reference)
+// passes on humanoid25 and G1, also with the simulated masses scaled by 0.9 and 1.1 and a floor
+// friction of 0.7; the negative controls still fail with the right violation: the root lifted
+// 0.3 m from one frame to the next, the walk played 3x faster, and a pose whose COM is held far outside the only
+// stance foot. G1 skips cleanly without ../shared/data.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <string>
+
+#include "retarget/core/strings.hpp"
+#include "retarget/ik/landmark_ik.hpp"
+#include "retarget/model/kinematics.hpp"
+#include "retarget/model/robot_model.hpp"
+#include "retarget/reference/robot_mapping.hpp"
+#include "retarget/reference/synthetic_references.hpp"
+#include "retarget/sim/balance_plan.hpp"
+#include "retarget/sim/dynamics_check.hpp"
+#include "retarget/sim/lead_in.hpp"
+#include "retarget/sim/reference_signal.hpp"
+#include "support/test_paths.hpp"
+
+namespace rt {
+namespace {
+
+std::unique_ptr<RobotModel> load_robot(const std::string& name) {
+  if (name == "g1" && test::shared_data("robots").empty()) return nullptr;
+  return RobotModel::load(test::source_path("robots/" + name));
+}
+
+std::string failing(const DynamicsCheckResult& r) {
+  std::string s;
+  for (const Violation& v : r.violations)
+    if (violation_fails_check(v.kind)) s += format("%s at %.3f s: %s; ", violation_name(v.kind), v.start_s, v.detail.c_str());
+  return s;
+}
+
+bool fails_with(const DynamicsCheckResult& r, std::initializer_list<ViolationKind> kinds) {
+  return std::any_of(r.violations.begin(), r.violations.end(), [&](const Violation& v) {
+    return std::find(kinds.begin(), kinds.end(), v.kind) != kinds.end() && violation_fails_check(v.kind);
+  });
+}
+
+class WalkingController : public ::testing::TestWithParam<const char*> {
+ protected:
+  void SetUp() override {
+    model_ = load_robot(GetParam());
+    if (!model_) GTEST_SKIP() << "shared robot data absent";
+  }
+  const Reference& walk() {
+    if (walk_.num_frames() == 0) walk_ = walk_reference(*model_);
+    return walk_;
+  }
+  std::unique_ptr<RobotModel> model_;
+  Reference walk_;
+};
+
+TEST_P(WalkingController, SyntheticWalkPasses) {
+  const DynamicsCheckOptions o = default_check_options(*model_);
+  ASSERT_EQ(o.controller, CheckControllerKind::Walking);  // the default
+  const DynamicsCheckResult r = run_dynamics_check(*model_, walk(), o);
+  EXPECT_TRUE(r.passed) << failing(r);
+  EXPECT_FALSE(r.fell);
+  EXPECT_NEAR(r.simulated_s, r.clip_duration_s, 1e-6);
+  ASSERT_TRUE(r.walking.used);
+  // Feasible by construction: the plan barely moves its COM, and a feasible reference tracked well
+  // does not make the receding-horizon planner fire.
+  EXPECT_LT(r.walking.plan_max_shift_m, 0.02);
+  EXPECT_EQ(r.walking.replans, 0);
+  EXPECT_LT(r.walking.max_dcm_error_m, 0.05);
+}
+
+TEST_P(WalkingController, SyntheticWalkPassesWithOtherMassesAndFriction) {
+  for (const auto& [mass, friction] : {std::pair{0.9, 0.0}, std::pair{1.1, 0.0}, std::pair{1.0, 0.7}}) {
+    DynamicsCheckOptions o = default_check_options(*model_);
+    o.mass_scale = mass;
+    o.floor_friction = friction;
+    const DynamicsCheckResult r = run_dynamics_check(*model_, walk(), o);
+    EXPECT_TRUE(r.passed) << "mass x" << mass << ", friction " << friction << ": " << failing(r);
+  }
+}
+
+TEST_P(WalkingController, FootLiftPassesWithoutTheReferenceShiftingItsWeight) {
+  const DynamicsCheckResult r = run_dynamics_check(*model_, foot_lift_reference(*model_), default_check_options(*model_));
+  EXPECT_TRUE(r.passed) << failing(r);
+  // The plan moves the COM over the stance foot (half the stance width, well above the walk's).
+  EXPECT_GT(r.walking.plan_max_shift_m, 0.02);
+}
+
+// The root jumps up 0.3 m from one frame to the next (and stays up): the feet leave the floor
+// while labelled in contact.
+TEST_P(WalkingController, RootLiftedInOneFrameFails) {
+  Reference ref = walk();
+  for (int k = ref.num_frames() / 2; k < ref.num_frames(); ++k) ref.root_pos_W(2, k) += 0.3;
+  const DynamicsCheckResult r = run_dynamics_check(*model_, ref, default_check_options(*model_));
+  EXPECT_FALSE(r.passed);
+  EXPECT_TRUE(fails_with(r, {ViolationKind::Fall, ViolationKind::ContactNotAchieved, ViolationKind::LiftOffNotAchieved}))
+      << failing(r);
+}
+
+TEST_P(WalkingController, WalkPlayedThreeTimesFasterFails) {
+  const DynamicsCheckResult r = run_dynamics_check(*model_, retime_reference(walk(), 1.0 / 3.0), default_check_options(*model_));
+  EXPECT_FALSE(r.passed) << "a walk at 3x speed (0.17 s steps) passed";
+  EXPECT_TRUE(fails_with(r, {ViolationKind::Fall, ViolationKind::ContactNotAchieved, ViolationKind::LiftOffNotAchieved,
+                             ViolationKind::HeavyCorrection}))
+      << failing(r);
+}
+
+// Standing on the left foot, the right one up, with the left sole moved 0.25 m out to the side by
+// the leg (root fixed): the COM hangs far outside the only support for the whole clip.
+TEST_P(WalkingController, ComHeldFarOutsideTheStanceFootFails) {
+  const RobotModel& model = *model_;
+  const VecX q0 = model.standing_q();
+  RobotData data(model);
+  update_kinematics(model, data, q0);
+  std::vector<IkTarget> targets(2);
+  for (int f = 0; f < 2; ++f) {
+    const Sole& sole = model.soles()[static_cast<std::size_t>(f)];
+    const Iso3 X = link_pose(model, data, sole.link);
+    IkTarget& t = targets[static_cast<std::size_t>(f)];
+    t.link = sole.link;
+    t.p_L = sole.p_L_center;
+    t.p_W = X * sole.p_L_center + (f == 0 ? Vec3(0, 0.25, 0) : Vec3(0, 0, 0.05));
+    t.weight = 100;
+    t.R_W = Quat(X.linear());
+    t.orientation_weight = 100;
+  }
+  IkOptions io;
+  io.root_free = {false, false, false, false, false, false};
+  io.max_iterations = 200;
+  const LandmarkIk ik(model, io);
+  VecX q = q0;
+  ik.solve(data, targets, q0, q);
+  Reference ref = constant_reference(model, q, 2.0, 50.0);
+  std::fill(ref.contact[1].begin(), ref.contact[1].end(), 0);
+  // The pose is what the test says: the COM is well outside the left sole.
+  update_kinematics(model, data, q);
+  const Iso3 X_left = link_pose(model, data, model.soles()[0].link);
+  ASSERT_GT((X_left * model.soles()[0].p_L_center).y() - com_position(model, data).y(), 0.15);
+
+  const DynamicsCheckResult r = run_dynamics_check(model, ref, default_check_options(model));
+  EXPECT_FALSE(r.passed);
+  EXPECT_TRUE(fails_with(r, {ViolationKind::Fall, ViolationKind::HeavyCorrection})) << failing(r);
+}
+
+INSTANTIATE_TEST_SUITE_P(Robots, WalkingController, ::testing::Values("humanoid25", "g1"));
+
+// A standing reference needs no COM shift to be feasible; its plan stays at rest.
+TEST(BalancePlan, StandingReferenceIsLeftAlone) {
+  const auto model = RobotModel::load(test::source_path("robots/humanoid25"));
+  const Reference ref = constant_reference(*model, model->standing_q(), 2.0, 30.0);
+  RobotData data(*model);
+  const ReferenceSignal signal(*model, data, ref);
+  const BalancePlan plan = plan_reference_balance(*model, data, signal);
+  EXPECT_LT(plan.max_shift_m, 1e-3);
+  EXPECT_NEAR(plan.start_s, -BalancePlanOptions{}.lead_in_s, 1e-9);
+  // Its COM leans towards the support's centre (the ZMP centring), by at most half the distance.
+  EXPECT_LT((plan.com(1.0) - signal.com_at(1.0, TrunkTransform{}).head<2>()).norm(), 0.015);
+  EXPECT_LT(plan.com_velocity(1.0).norm(), 1e-3);
+  EXPECT_LT((plan.zmp(1.0) - plan.com(1.0)).norm(), 2e-3);
+}
+
+// A clip that starts with a foot in the air gets a standing lead-in: that foot put down at frame 0
+// of the extended reference, both feet labelled down, and the clip's frames unchanged after it.
+TEST(LeadIn, PutsTheAirborneFootDownBeforeTheClip) {
+  const auto model = RobotModel::load(test::source_path("robots/humanoid25"));
+  // The foot-lift reference from mid-lift on: its first frame has the right foot 5 cm up.
+  const Reference whole = foot_lift_reference(*model);
+  const int k0 = static_cast<int>(1.5 * whole.fps);
+  Reference ref = whole;
+  const int T = whole.num_frames() - k0;
+  ref.root_pos_W = whole.root_pos_W.rightCols(T);
+  ref.root_quat_W.assign(whole.root_quat_W.begin() + k0, whole.root_quat_W.end());
+  ref.joint_pos = whole.joint_pos.rightCols(T);
+  for (int f = 0; f < 2; ++f)
+    ref.contact[static_cast<std::size_t>(f)].assign(whole.contact[static_cast<std::size_t>(f)].begin() + k0,
+                                                    whole.contact[static_cast<std::size_t>(f)].end());
+  ASSERT_EQ(ref.contact[1][0], 0);
+  const LeadIn li = standing_lead_in(*model, ref, 0.3);
+  ASSERT_EQ(li.foot, 1);
+  EXPECT_NEAR(li.foot_height_m, 0.05, 0.01);
+  EXPECT_EQ(li.frames, 30);
+  ASSERT_EQ(li.reference.num_frames(), ref.num_frames() + li.frames);
+  EXPECT_EQ(li.reference.contact[1][0], 1);
+  EXPECT_EQ(li.reference.contact[0][0], 1);
+  EXPECT_EQ(li.reference.contact[1][static_cast<std::size_t>(li.frames)], 0);
+  RobotData data(*model);
+  const ReferenceRobotMap map(*model, li.reference, "test");
+  update_kinematics(*model, data, map.q(li.reference, 0));
+  EXPECT_NEAR(lowest_sole_corner_z(*model, data, 1), lowest_sole_corner_z(*model, data, 0), 0.005);
+  EXPECT_TRUE(li.reference.joint_pos.rightCols(ref.num_frames()).isApprox(ref.joint_pos));
+  // None when frame 0 has both feet down.
+  EXPECT_EQ(standing_lead_in(*model, walk_reference(*model), 0.3).frames, 0);
+}
+
+}  // namespace
+}  // namespace rt
