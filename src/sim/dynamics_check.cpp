@@ -248,6 +248,8 @@ DynamicsCheckResult run_dynamics_check(const RobotModel& model, const Reference&
     const double t_sim = plant.time_s();
     const double t_clip = t_sim - o.settle_s;
     if (t_clip > signal.duration_s() + 1e-9) break;
+    if (o.progress && tick % std::max(1L, std::lround(0.1 / o.control_period_s)) == 0)  // every 0.1 s of clip time
+      o.progress(std::clamp(t_clip, 0.0, signal.duration_s()), signal.duration_s());
     const bool settling = t_clip < 0;
     const double t_ref = clip_time(t_sim);
     const VecX q = plant.q(), v = plant.v();
