@@ -13,6 +13,12 @@ namespace rt {
 
 namespace {
 
+// A suggested rate as a user would type it: 29.9999 Hz (a BVH's rounded frame time) is 30.
+double typed_rate(double hz) {
+  const double whole = std::round(hz);
+  return std::abs(hz - whole) <= 1e-3 * hz ? whole : hz;
+}
+
 constexpr double kHeadCentreStatureRatio = 0.87;  // as the BVH reader's head-joint estimate
 constexpr double kRepeatTolerance_m = 1e-6;
 constexpr double kNoiseFraction = 0.05;  // of the 75th-percentile frame displacement
@@ -101,7 +107,7 @@ RepeatedFrames find_repeated_frames(const HumanMotion& m) {
   // still stretch gives runs and moving stretches of random lengths).
   if (best <= 4 && best_count >= 0.8 * total && lone_moves >= 0.8 * std::max(moves - 1, 1)) {
     out.run_length = best;
-    out.data_fps = m.fps / (best + 1);
+    out.data_fps = typed_rate(m.fps / (best + 1));
   }
   return out;
 }
@@ -165,7 +171,7 @@ CentreFall find_centre_fall(const HumanMotion& m) {
   out.span_s = longest / fps;
   if (longest >= min_span) {
     out.slow_down = std::max(2, static_cast<int>(std::ceil(std::sqrt(peak) - 1e-9)));
-    out.data_fps = m.fps / out.slow_down;
+    out.data_fps = typed_rate(m.fps / out.slow_down);
   }
   return out;
 }

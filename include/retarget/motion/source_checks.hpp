@@ -28,7 +28,7 @@ void check_stature(const HumanMotion& motion);
 struct RepeatedFrames {
   int repeated = 0;       ///< frames equal (within the tolerance below) to the previous one
   int run_length = 0;     ///< the common length of the runs of repeats (1: every other frame), 0 = no pattern
-  double data_fps = 0;    ///< [Hz] the rate the data then has: fps / (run_length + 1); 0 = no pattern
+  double data_fps = 0;    ///< [Hz] the rate the data then has: fps / (run_length + 1), rounded to a whole Hz within 0.1 %; 0 = no pattern
 };
 
 /// Looks for a regular pattern of repeated frames. A frame repeats when no landmark moved more
@@ -51,7 +51,7 @@ struct CentreFall {
   double peak_g = 0;       ///< [g] the fastest downward acceleration of the landmarks' mean (positive)
   double span_s = 0;       ///< [s] the longest span beyond kMaxCentreFall_g
   int slow_down = 0;       ///< the smallest integer time scale that brings peak_g to 1 g; 0 = plausible
-  double data_fps = 0;     ///< [Hz] fps / slow_down: the highest rate the data plausibly has; 0 = plausible
+  double data_fps = 0;     ///< [Hz] fps / slow_down (rounded as RepeatedFrames::data_fps): the highest plausible rate; 0 = plausible
 };
 
 /// The landmarks' mean over the frames where every present landmark is valid (gaps split the
