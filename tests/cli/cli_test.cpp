@@ -161,6 +161,7 @@ TEST(Cli, ProgressLineOnlyOnATerminal) {
   EXPECT_EQ(r.err.find('\r'), std::string::npos) << r.err;
   r = run(dir, "convert '" + test::source_path("examples/clips/foot_lift.bvh") + "' " + robot + " --no-refine -o again.csv");
   EXPECT_EQ(r.err.find("elapsed"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("contradicted by the data"), std::string::npos) << r.err;  // a normal clip: no rate warning
 }
 
 // The CMU Daz salsa clip states 120 Hz for 60 Hz data; at twice its speed it is still plausible
