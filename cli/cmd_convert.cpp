@@ -40,13 +40,15 @@ struct ConvertOptions {
   std::vector<std::string> enabled;   // filled from the --<pass> flags of passes not in the default pipeline
 };
 
-// A pass's usual share of a conversion's time, for the progress line's ETA only (measured with -v
-// on the shared clips for G1: refine ~70 %, ik ~20 %; com-plan, when enabled, ~9x refine).
+// A pass's usual cost relative to the others, for the progress line's ETA only. Measured with -v:
+// refine takes 4-27x the IK time (4x on 120 Hz clips, 26x on 30 Hz LAFAN1: IK goes by source
+// frames, refine by clip time), so refine is weighted at the geometric mean, 11x; com-plan ~9x
+// refine, com-replan ~0.3x, refine-ipopt ~1x, flat-contact and ground a few % of IK.
 double pass_cost(const std::string& name) {
-  static const std::map<std::string, double> kCost = {{"ik", 20},   {"flat-contact", 3}, {"refine", 70},    {"refine-ipopt", 70},
-                                                      {"ground", 1}, {"com-plan", 600},  {"com-replan", 25}};
+  static const std::map<std::string, double> kCost = {{"ik", 20},    {"flat-contact", 1}, {"refine", 220},   {"refine-ipopt", 220},
+                                                      {"ground", 1}, {"com-plan", 2000},  {"com-replan", 70}};
   const auto it = kCost.find(name);
-  return it == kCost.end() ? 0.5 : it->second;
+  return it == kCost.end() ? 0.2 : it->second;
 }
 
 void print_pass_list() {

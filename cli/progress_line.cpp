@@ -77,8 +77,11 @@ double ProgressLine::eta_s_locked(std::chrono::steady_clock::time_point now) con
   if (begin_ < 0 || begin_ - first_ < kMinMeasuredFraction) return -1;
   const double rate = (begin_ - first_) / std::chrono::duration<double>(begin_time_ - first_time_).count();  // [1/s]
   if (!(rate > 0)) return -1;
+  // A step running past its predicted time has an unknown rest: take half the time already spent
+  // in it (rather than 0 s) as the estimate.
   const double in_step_s = std::chrono::duration<double>(now - begin_time_).count();
-  return std::max(0.0, (end_ - begin_) / rate - in_step_s) + (1 - end_) / rate;
+  const double step_left_s = end_ > begin_ ? std::max((end_ - begin_) / rate - in_step_s, 0.5 * in_step_s) : 0.0;
+  return step_left_s + (1 - end_) / rate;
 }
 
 void ProgressLine::stop() {

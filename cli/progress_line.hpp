@@ -37,7 +37,7 @@ class ProgressLine {
   void set(std::string status, double fraction_done) { set(std::move(status), fraction_done, fraction_done); }
   /// A step that starts now and takes the whole work from `fraction_begin` to `fraction_end` (a
   /// pipeline pass, weighted by its usual cost): the ETA counts the step down at the rate measured
-  /// before it, then the rest at that rate.
+  /// before it (once it runs past that, half the time spent in it), then the rest at that rate.
   void set(std::string status, double fraction_begin, double fraction_end);
   /// Erases the line (if shown) and ends the redraw thread; idempotent.
   void stop();
