@@ -63,7 +63,10 @@ Command setup_validate(CLI::App& parent) {
             apply_check_options(o->check, request.check);
             if (o->find_speed) {
               const Reference ref = read_reference_for(*model, o->reference, o->fps, o->joint_order);
+              ProgressLine searching;  // one check per trial speed: the ETA is the current trial's
+              request.check.progress = simulation_progress(searching, "speed search on " + base_name(o->reference) + ", trial");
               const SpeedSearchResult s = find_feasible_speed(ref, *model, request);
+              searching.stop();
               std::cout << format("%s on %s: ", o->reference.c_str(), model->name().c_str());
               if (!s.feasible)
                 std::cout << format("fails even at %.2fx speed\n", 1.0 / SpeedSearchOptions{}.max_time_scale);
@@ -76,7 +79,8 @@ Command setup_validate(CLI::App& parent) {
               return s.passes_at_1x ? kExitOk : kExitCheckFailed;
             }
             ProgressLine progress;
-            progress.set("checking " + base_name(o->reference));
+            progress.set("checking " + base_name(o->reference) + ": starting");
+            request.check.progress = simulation_progress(progress, "checking " + base_name(o->reference));
             const ValidateResult r = run_validate(request, *model);
             progress.stop();
             return report_check(*model, r, request.check, o->reference, o->report_dir, o->json);

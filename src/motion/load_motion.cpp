@@ -60,13 +60,7 @@ HumanMotion load_motion(const std::string& path, const MotionLoadOptions& option
       throw InputError(path, "unsupported motion file: expected a BVH (starts with HIERARCHY), a C3D or an AMC file (FBX is not read)");
   }
   if (!options.allow_implausible_stature) check_stature(m);
-  if (!options.source_fps) {
-    const RepeatedFrames r = find_repeated_frames(m);
-    if (r.run_length > 0)
-      m.diagnostics.warn(path, format("%d of %d frames repeat the previous one (runs of %d): the data looks like %g Hz, "
-                                      "not the %g Hz the file states; if so, pass --source-fps %g",
-                                      r.repeated, m.num_frames, r.run_length, r.data_fps, m.fps, r.data_fps));
-  }
+  if (!options.source_fps) check_frame_rate_against_data(m);
   return m;
 }
 

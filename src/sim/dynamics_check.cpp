@@ -99,6 +99,8 @@ DynamicsCheckResult run_dynamics_check(const RobotModel& model, const Reference&
     const double t_signal = t_sim - o.settle_s;
     const double t_clip = t_signal - lead_s;
     if (t_clip > clip_duration + 1e-9) break;
+    if (o.progress && tick % std::max(1L, std::lround(0.1 / o.control_period_s)) == 0)  // every 0.1 s of clip time
+      o.progress(std::clamp(t_clip, 0.0, clip_duration), clip_duration);
     const VecX q = plant.q(), v = plant.v();
     const ContactState contacts = plant.contacts();
     // The controller's own data for the measured state: MuJoCo's position and velocity stages of

@@ -133,6 +133,53 @@ TEST(Cli, ConvertThenValidateWithReport) {
     EXPECT_TRUE(std::filesystem::exists(dir + "/out/lift.report/" + f)) << f;
 }
 
+// The progress line (README "Progress"): on a terminal (a pseudo-terminal from util-linux's
+// `script`) the check shows the clip time simulated of the total with an ETA, redrawn in place;
+// with stderr in a file (a pipe, a batch worker's log) nothing. The 2 s delay is set to 0 here.
+TEST(Cli, ProgressLineOnlyOnATerminal) {
+  if (std::system("script -qec true /dev/null > /dev/null 2>&1") != 0) GTEST_SKIP() << "no util-linux script (pseudo-terminal)";
+  const std::string dir = test::scratch_dir();
+  const std::string robot = "--robot '" + test::source_path("robots/humanoid25") + "'";
+  // A 69.7 s reference (the clip played 20 times slower): a check of about 2 s here.
+  CliRun r = run(dir, "convert '" + test::source_path("examples/clips/foot_lift.bvh") + "' " + robot +
+                          " --time-scale 20 --no-refine -o slow.csv");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::string cmd = "cd '" + dir + "' && RETARGET_PROGRESS_DELAY_MS=0 script -qec \"'" RT_RETARGET_BIN "' validate slow.csv " +
+                          robot + "\" /dev/null > tty.txt 2>&1";
+  const int raw = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(raw)) << raw;
+  const std::string tty = read_file(dir + "/tty.txt");
+  EXPECT_NE(tty.find("\r\033[Kchecking slow.csv: "), std::string::npos) << tty;
+  EXPECT_NE(tty.find(" s of the clip simulated  "), std::string::npos) << tty;
+  EXPECT_NE(tty.find(", ETA "), std::string::npos) << tty;
+  EXPECT_NE(tty.find("/69.7 s of the clip simulated"), std::string::npos) << tty;  // the clip duration
+
+  // The same without a terminal: not a byte of it.
+  r = run(dir, "validate slow.csv " + robot);
+  EXPECT_TRUE(r.status == 0 || r.status == 1) << r.err;
+  EXPECT_EQ(r.err.find("elapsed"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find('\r'), std::string::npos) << r.err;
+  r = run(dir, "convert '" + test::source_path("examples/clips/foot_lift.bvh") + "' " + robot + " --no-refine -o again.csv");
+  EXPECT_EQ(r.err.find("elapsed"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("contradicted by the data"), std::string::npos) << r.err;  // a normal clip: no rate warning
+}
+
+// The CMU Daz salsa clip states 120 Hz for 60 Hz data; at twice its speed it is still plausible
+// human motion, so no contradiction is claimed, but the cgspeed conversions' 120 Hz gets a note
+// naming --source-fps 60. Its data: no repeated frames, the landmarks' centre falls at most ~1 g.
+TEST(Cli, CmuSalsaClipGetsTheSourceFpsHint) {
+  RT_REQUIRE_SHARED(salsa, "bvh/cmu_daz_salsa_10.bvh");
+  const std::string dir = test::scratch_dir();
+  CliRun r = run(dir, "inspect '" + salsa + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::string all = r.out + r.err;
+  EXPECT_NE(all.find("some CMU subjects were captured at 60 Hz"), std::string::npos) << all;
+  EXPECT_NE(all.find("pass --source-fps 60"), std::string::npos) << all;
+  EXPECT_EQ(all.find("contradicted by the data"), std::string::npos) << all;
+  r = run(dir, "inspect '" + salsa + "' --source-fps 60");
+  EXPECT_EQ((r.out + r.err).find("pass --source-fps 60"), std::string::npos) << r.out << r.err;
+}
+
 // Bad references for validate (issue 5): each a one-line error and exit 2.
 // The NPZ's body axis and joint columns in the simulator's order (--npz-layout, robot.yaml
 // npz_layout), and validate refusing an NPZ that does not name its joints unless told the order.
@@ -242,9 +289,9 @@ TEST(Cli, GuardsForUnitsFrameRateAndTypos) {
   write(dir + "/doubled.bvh", doubled);
   r = run(dir, "convert doubled.bvh --robot humanoid25");
   EXPECT_EQ(r.status, 0) << r.err;
-  EXPECT_NE(r.err.find("the data looks like 60 Hz, not the 120 Hz the file states; if so, pass --source-fps 60"),
-            std::string::npos)
+  EXPECT_NE(r.err.find("frame rate 120 Hz contradicted by the data: every 2nd frame repeats its predecessor"), std::string::npos)
       << r.err;
+  EXPECT_NE(r.err.find("likely 60 Hz); pass --source-fps 60 if so"), std::string::npos) << r.err;
   r = run(dir, "convert doubled.bvh --robot humanoid25 --source-fps 120");
   EXPECT_EQ(r.err.find("--source-fps 60"), std::string::npos) << r.err;
 

@@ -12,6 +12,7 @@
 ///    online dynamic mapping (eq. 25–34); both use the tracking controller (eq. 2–19).
 
 #include <array>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -83,6 +84,9 @@ struct DynamicsCheckOptions {
   double fall_tilt_rad = 0.785398163397448;  ///< trunk tilt above this = fall (45°)
   double min_violation_s = 0.01;         ///< [s] shorter spans of a condition are ignored
   double record_period_s = 0.01;         ///< [s] sampling of the recorded time series
+  /// Called with the clip time simulated so far and the clip's duration [s], about every 0.1 s of
+  /// clip time (progress lines; the library never prints).
+  std::function<void(double done_s, double total_s)> progress;
 };
 
 /// Time series recorded during the run (for report.json and the plots).
