@@ -19,7 +19,7 @@
 #include "retarget/core/error.hpp"
 #include "retarget/core/strings.hpp"
 #include "retarget/passes/registry.hpp"
-#include "retarget/report/motion_viewer.hpp"
+#include "cli/view_page.hpp"
 
 namespace rt::cli {
 
@@ -191,7 +191,7 @@ Command setup_batch(CLI::App& parent) {
             if (!o->shard.empty()) b.shard = parse_shard(o->shard);
             b.memory_limit_bytes = static_cast<std::uint64_t>(o->memory_limit_mb * (1 << 20));
             b.worker_executable = self_executable();
-            if (b.convert.view) require_three_js(ViewerOptions{});  // once here, not once per clip
+            if (b.convert.view) require_three_js(viewer_options());  // once here, not once per clip
             if (o->dry_run) {
               print_plan(plan_batch(b), b);
               return kExitOk;

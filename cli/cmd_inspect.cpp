@@ -182,6 +182,7 @@ Command setup_inspect(CLI::App& parent) {
   add_viewer_options(*app, opts->viewer, "Viewer (with --view)");
   return {app, [opts] {
             const bool clip = is_clip(opts->target);
+            if (!opts->view && !opts->view_path.empty()) throw InputError("-o", "names the --view page; add --view");
             if (opts->view && clip) throw InputError("--view", "shows a robot; for a clip use 'retarget convert CLIP --view'");
             if (opts->view) require_three_js(viewer_options(opts->viewer));
             return clip ? inspect_clip(*opts) : inspect_robot(*opts);

@@ -5,6 +5,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 
@@ -48,6 +49,7 @@ ViewerOptions viewer_options(const ViewerCliOptions& o) {
   ViewerOptions v;
   v.collision_meshes = o.collision_meshes;
   v.max_triangles = o.max_triangles;
+  if (const char* dir = std::getenv("RETARGET_THREE_JS_DIR"); dir != nullptr && *dir != '\0') v.three_js_dir = dir;
   return v;
 }
 

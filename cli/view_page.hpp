@@ -18,7 +18,8 @@ struct ViewerCliOptions {
 
 /// Registers --collision-meshes and --max-triangles in `group`.
 void add_viewer_options(CLI::App& app, ViewerCliOptions& options, const std::string& group);
-ViewerOptions viewer_options(const ViewerCliOptions& options);
+/// The options, with three.js from $RETARGET_THREE_JS_DIR when set (else libjs-three's folder).
+ViewerOptions viewer_options(const ViewerCliOptions& options = {});
 
 /// `out/walk.csv` -> `out/walk.html` (beside the reference).
 std::string view_page_path(const std::string& reference_path);

@@ -136,6 +136,17 @@ TEST(ViewCli, ViewWritesAPageOfTheReference) {
   r = run(dir, "view ref/lift.csv " + robot() + " -o page.html --collision-meshes --max-triangles 500");
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(parse_viewer_page(read_file(dir + "/page.html"), "page.html").mesh_source, "collision");
+  EXPECT_TRUE(s.com_planned_W.empty());  // the default pipeline plans no COM
+  // An NPZ with the COM plan (com_pos_w, cop_ref_w): the planned COM and ZMP are on the page.
+  r = run(dir, "convert '" + test::source_path("examples/clips/foot_lift.bvh") + "' " + robot() +
+                   " -o plan/lift --format csv,npz --com-plan");
+  ASSERT_EQ(r.status, 0) << r.err;
+  r = run(dir, "view plan/lift.npz " + robot() + " -o npz.html");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const ViewerScene p = parse_viewer_page(read_file(dir + "/npz.html"), "npz.html");
+  EXPECT_EQ(p.com_planned_W.size(), static_cast<std::size_t>(3 * p.num_frames));
+  EXPECT_EQ(p.cop_planned_W.size(), static_cast<std::size_t>(2 * p.num_frames));
+  EXPECT_FALSE(p.contact[1].empty());
 }
 
 TEST(ViewCli, BadInputIsOneLineExitTwo) {
@@ -151,6 +162,19 @@ TEST(ViewCli, BadInputIsOneLineExitTwo) {
   r = run(dir, "inspect '" + test::source_path("examples/clips/foot_lift.bvh") + "' --view");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("--view"), std::string::npos) << r.err;
+  r = run(dir, "inspect '" + test::source_path("robots/humanoid25") + "' -o robot.html");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(r.err, "error: -o: names the --view page; add --view\n");
+  // three.js missing: one line naming the package, before any work.
+  const std::string env = "RETARGET_THREE_JS_DIR=/nonexistent/three ";
+  const std::string cmd = "cd '" + dir + "' && " + env + "'" RT_RETARGET_BIN "' convert '" +
+                          test::source_path("examples/clips/foot_lift.bvh") + "' " + robot() + " -o x --view 2> err.txt";
+  const int raw = std::system(cmd.c_str());
+  EXPECT_EQ(WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, 2);
+  EXPECT_EQ(read_file(dir + "/err.txt"),
+            "error: /nonexistent/three/three.min.js: not found; the viewer inlines three.js from the Debian package "
+            "libjs-three (apt-get install libjs-three)\n");
+  EXPECT_FALSE(fs::exists(dir + "/x.csv"));  // refused before converting
 }
 
 TEST(ViewCli, ConvertViewAndInspectView) {
@@ -189,12 +213,29 @@ TEST(ViewCli, BatchViewLinksEachClipsPageFromTheIndex) {
   EXPECT_EQ(read_file(dir + "/out/index.html").find(">view</a>"), std::string::npos);
 }
 
+std::string chromium_flags(const std::string& dir) {
+  // Software WebGL (SwiftShader); no sandbox (it refuses root and needs user namespaces, often
+  // absent in containers); /tmp instead of a possibly small /dev/shm; a profile of its own.
+  return " --headless --disable-gpu --no-sandbox --enable-unsafe-swiftshader --hide-scrollbars --disable-dev-shm-usage "
+         "--no-first-run --user-data-dir='" + dir + "/chromium-profile' --window-size=800,600 ";
+}
+
+// Whether this Chromium starts headless at all (a container may lack what it needs); the tests
+// below are about our page, so a browser that cannot start skips them with its log.
+std::string chromium_problem(const std::string& dir) {
+  const std::string probe = "timeout 60 " + chromium() + chromium_flags(dir) +
+                            "--dump-dom 'data:text/html,<p id=probe>ok</p>' > '" + dir + "/probe.html' 2> '" + dir +
+                            "/probe.log'";
+  if (std::system(probe.c_str()) == 0 && read_file(dir + "/probe.html").find("id=\"probe\"") != std::string::npos) return "";
+  const std::string log = read_file(dir + "/probe.log");
+  return "Chromium does not start headless here: " + log.substr(log.size() > 600 ? log.size() - 600 : 0);
+}
+
 // Loads a page in headless Chromium: the error hook's marker must say "ok", and the screenshot
 // must show the robot (many pixels unlike the page background).
 void expect_page_renders(const std::string& dir, const std::string& page, int frames) {
   const std::string browser = chromium();
-  const std::string flags = " --headless --disable-gpu --no-sandbox --enable-unsafe-swiftshader --hide-scrollbars "
-                            "--user-data-dir='" + dir + "/chromium-profile' --window-size=800,600 ";
+  const std::string flags = chromium_flags(dir);
   const std::string url = "'file://" + dir + "/" + page + "'";
   const std::string dump = "timeout 120 " + browser + flags + "--virtual-time-budget=4000 --dump-dom " + url +
                            " > '" + dir + "/dom.html' 2> '" + dir + "/chromium.log'";
@@ -235,7 +276,10 @@ TEST(ViewCli, PagesRenderInHeadlessChromium) {
   RT_REQUIRE_THREE_JS();
   if (chromium().empty()) GTEST_SKIP() << "Chromium is not installed (apt-get install chromium)";
   const std::string dir = test::scratch_dir();
-  CliRun r = run(dir, "convert '" + test::source_path("examples/clips/foot_lift.bvh") + "' " + robot() + " -o lift --view");
+  if (const std::string problem = chromium_problem(dir); !problem.empty()) GTEST_SKIP() << problem;
+  // With the COM plan, so that the planned COM and ZMP are drawn too.
+  CliRun r = run(dir, "convert '" + test::source_path("examples/clips/foot_lift.bvh") + "' " + robot() +
+                          " -o lift --view --com-plan");
   ASSERT_EQ(r.status, 0) << r.err;
   const int frames = parse_viewer_page(read_file(dir + "/lift.html"), "lift.html").num_frames;
   expect_page_renders(dir, "lift.html", frames);
@@ -249,6 +293,7 @@ TEST(ViewCli, G1PageRendersInHeadlessChromium) {
   RT_REQUIRE_SHARED(g1, "robots/unitree_g1/g1_29dof_rev_1_0.urdf");
   if (chromium().empty()) GTEST_SKIP() << "Chromium is not installed (apt-get install chromium)";
   const std::string dir = test::scratch_dir();
+  if (const std::string problem = chromium_problem(dir); !problem.empty()) GTEST_SKIP() << problem;
   const std::string g1_robot = "--robot '" + test::source_path("robots/g1") + "'";
   CliRun r = run(dir, "convert '" + test::source_path("examples/clips/slow_steps.bvh") + "' " + g1_robot + " -o steps --view");
   ASSERT_EQ(r.status, 0) << r.err;
