@@ -16,7 +16,10 @@
 #include "retarget/core/file_io.hpp"
 #include "retarget/core/strings.hpp"
 #include "retarget/jobs/validate_job.hpp"
+#include "retarget/model/robot_data.hpp"
 #include "retarget/model/robot_model.hpp"
+#include "retarget/passes/label_contacts.hpp"
+#include "retarget/reference/robot_mapping.hpp"
 
 namespace rt::cli {
 
@@ -91,9 +94,22 @@ Command setup_view(CLI::App& parent) {
   return {app, [v, app] {
             if (app->count("--robot") == 0) std::cerr << "robot: " << v->robot << " (default; pass --robot)\n";
             const auto model = RobotModel::load(v->robot, v->package_paths);
-            const Reference ref = read_reference_for(*model, v->reference, v->fps, v->joint_order);
-            ViewerOptions options = viewer_options(v->viewer);
-            const ViewerScene scene = motion_scene(*model, ref, v->reference, options);
+            Reference ref = read_reference_for(*model, v->reference, v->fps, v->joint_order);
+            const ViewerOptions options = viewer_options(v->viewer);
+            bool labelled = false;
+            if (!ref.has_contacts()) {
+              // As `validate` does: the schedule from the reference's own foot heights and speeds.
+              RobotData data(*model);
+              const ReferenceRobotMap map(*model, ref, v->reference);
+              Diagnostics ignored;
+              ref.contact = label_robot_contacts(*model, data, map.q_all(ref), ref.fps, LabelContactsOptions{}, ignored,
+                                                 v->reference)
+                                .in_contact;
+              labelled = true;
+            }
+            ViewerScene scene = motion_scene(*model, ref, v->reference, options);
+            if (labelled)
+              scene.notes.push_back("no contact schedule in the file: contacts labelled from the foot heights and speeds");
             const std::string out = v->output.empty() ? view_page_path(v->reference) : v->output;
             std::cout << format("%s on %s: %d frames at %g Hz (%.2f s)\n", v->reference.c_str(), model->name().c_str(),
                                 ref.num_frames(), ref.fps, ref.duration_s());

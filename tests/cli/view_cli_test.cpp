@@ -147,6 +147,17 @@ TEST(ViewCli, ViewWritesAPageOfTheReference) {
   EXPECT_EQ(p.com_planned_W.size(), static_cast<std::size_t>(3 * p.num_frames));
   EXPECT_EQ(p.cop_planned_W.size(), static_cast<std::size_t>(2 * p.num_frames));
   EXPECT_FALSE(p.contact[1].empty());
+  // A plain CSV (no meta.json, no schedule): contacts labelled from the kinematics, as validate does.
+  fs::create_directories(dir + "/plain");
+  fs::copy_file(dir + "/ref/lift.csv", dir + "/plain/lift.csv");
+  r = run(dir, "view plain/lift.csv --fps 30 " + robot());
+  ASSERT_EQ(r.status, 0) << r.err;
+  const ViewerScene plain = parse_viewer_page(read_file(dir + "/plain/lift.html"), "lift.html");
+  ASSERT_EQ(plain.contact[0].size(), static_cast<std::size_t>(plain.num_frames));
+  EXPECT_EQ(std::count(plain.contact[0].begin(), plain.contact[0].end(), 1), plain.num_frames);  // left foot stands
+  EXPECT_LT(std::count(plain.contact[1].begin(), plain.contact[1].end(), 1), plain.num_frames);  // right foot lifts
+  ASSERT_FALSE(plain.notes.empty());
+  EXPECT_NE(plain.notes.back().find("contacts labelled"), std::string::npos);
 }
 
 TEST(ViewCli, BadInputIsOneLineExitTwo) {
