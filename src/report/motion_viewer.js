@@ -269,7 +269,7 @@
     }
     if (controls) controls.update(); else camera.lookAt(controlsTarget);
     document.getElementById('scrub').value = f;
-    document.getElementById('time').textContent = (f / fps).toFixed(2) + ' / ' + ((T - 1) / fps).toFixed(2) + ' s';
+    document.getElementById('time').textContent = (f / fps).toFixed(2) + ' / ' + ((T - 1) / fps).toFixed(2) + ' s, frame ' + f;
     drawTimeline();
     renderer.render(scene, camera);
   }
@@ -331,6 +331,17 @@
     last = null;
   });
   scrub.addEventListener('input', function () { pause(); show(parseInt(scrub.value, 10)); });
+  // Keys: space plays / pauses, the arrows step one frame (with shift: one second).
+  window.addEventListener('keydown', function (e) {
+    if (T === 1 || e.target.tagName === 'SELECT') return;
+    if (e.key === ' ') { playButton.click(); e.preventDefault(); return; }
+    var step = e.key === 'ArrowRight' ? 1 : e.key === 'ArrowLeft' ? -1 : 0;
+    if (!step) return;
+    if (e.shiftKey) step *= Math.max(1, Math.round(fps));
+    pause();
+    show(Math.max(0, Math.min(T - 1, frame + step)));
+    e.preventDefault();
+  });
   function resize() {
     var w = view.clientWidth || 800, hh = view.clientHeight || 500;
     renderer.setSize(w, hh);
