@@ -248,7 +248,7 @@ void expect_page_renders(const std::string& dir, const std::string& page, int fr
   const std::string browser = chromium();
   const std::string flags = chromium_flags(dir);
   const std::string url = "'file://" + dir + "/" + page + "'";
-  const std::string dump = "timeout 120 " + browser + flags + "--virtual-time-budget=4000 --dump-dom " + url +
+  const std::string dump = "timeout 120 " + browser + flags + "--virtual-time-budget=1000 --dump-dom " + url +
                            " > '" + dir + "/dom.html' 2> '" + dir + "/chromium.log'";
   ASSERT_EQ(std::system(dump.c_str()), 0) << read_file(dir + "/chromium.log");
   const std::string dom = read_file(dir + "/dom.html");
@@ -258,7 +258,7 @@ void expect_page_renders(const std::string& dir, const std::string& page, int fr
   EXPECT_NE(status.find("data-status=\"ok\""), std::string::npos) << dom.substr(at, 800);
   EXPECT_NE(status.find("data-frames=\"" + std::to_string(frames) + "\""), std::string::npos) << status;
 
-  const std::string shot = "timeout 120 " + browser + flags + "--virtual-time-budget=2000 --screenshot='" + dir +
+  const std::string shot = "timeout 120 " + browser + flags + "--virtual-time-budget=500 --screenshot='" + dir +
                            "/shot.png' " + url + " 2>> '" + dir + "/chromium.log'";
   ASSERT_EQ(std::system(shot.c_str()), 0) << read_file(dir + "/chromium.log");
   const Image img = read_png(dir + "/shot.png");
@@ -302,15 +302,19 @@ TEST(ViewCli, PagesRenderInHeadlessChromium) {
 TEST(ViewCli, G1PageRendersInHeadlessChromium) {
   RT_REQUIRE_THREE_JS();
   RT_REQUIRE_SHARED(g1, "robots/unitree_g1/g1_29dof_rev_1_0.urdf");
+  // A third-party G1 reference (a plain 60 Hz Unitree-layout CSV, 442 frames): the visual meshes,
+  // decimated, and contacts labelled from its kinematics.
+  RT_REQUIRE_SHARED(hands_up, "retargeted/g1_moves/B_HandsUp.csv");
   if (chromium().empty()) GTEST_SKIP() << "Chromium is not installed (apt-get install chromium)";
   const std::string dir = test::scratch_dir();
   if (const std::string problem = chromium_problem(dir); !problem.empty()) GTEST_SKIP() << problem;
-  const std::string g1_robot = "--robot '" + test::source_path("robots/g1") + "'";
-  CliRun r = run(dir, "convert '" + test::source_path("examples/clips/slow_steps.bvh") + "' " + g1_robot + " -o steps --view");
+  CliRun r = run(dir, "view '" + hands_up + "' --fps 60 --robot '" + test::source_path("robots/g1") + "' -o hands_up.html");
   ASSERT_EQ(r.status, 0) << r.err;
-  const ViewerScene s = parse_viewer_page(read_file(dir + "/steps.html"), "steps.html");
+  const ViewerScene s = parse_viewer_page(read_file(dir + "/hands_up.html"), "hands_up.html");
   EXPECT_EQ(s.mesh_source, "visual");
-  expect_page_renders(dir, "steps.html", s.num_frames);
+  EXPECT_EQ(s.num_frames, 442);
+  EXPECT_FALSE(s.contact[0].empty());
+  expect_page_renders(dir, "hands_up.html", s.num_frames);
 }
 
 }  // namespace
