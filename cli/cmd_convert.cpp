@@ -202,7 +202,7 @@ Command setup_convert(CLI::App& parent) {
               const ViewerOptions options = viewer_options(o->viewer);
               ViewerScene scene = motion_scene(*model, r.clip.reference, r.output_stem, options);
               scene.title = model->name() + ": " + clip_name;
-              scene.skeleton = skeleton_points(r.clip.targets.tracks, r.clip.motion.fps, r.clip.reference);
+              scene.skeleton = skeleton_points(r.clip.targets.tracks, r.clip.motion.fps, scene);
               write_view_page(scene, options, r.output_stem + ".html");
             }
             if (!o->check && o->report_dir.empty()) return kExitOk;

@@ -46,12 +46,18 @@ void add_viewer_options(CLI::App& app, ViewerCliOptions& o, const std::string& g
       ->default_val(ViewerOptions{}.max_triangles)
       ->check(bounded(100, 2000000, "triangles"))
       ->group(group);
+  app.add_option("--view-fps", o.max_fps,
+                 "Viewer: highest frame rate of the page [Hz]; a faster reference keeps every n-th frame (page size)")
+      ->default_val(ViewerOptions{}.max_fps)
+      ->check(bounded(1, 1000, "Hz"))
+      ->group(group);
 }
 
 ViewerOptions viewer_options(const ViewerCliOptions& o) {
   ViewerOptions v;
   v.collision_meshes = o.collision_meshes;
   v.max_triangles = o.max_triangles;
+  v.max_fps = o.max_fps;
   if (const char* dir = std::getenv("RETARGET_THREE_JS_DIR"); dir != nullptr && *dir != '\0') v.three_js_dir = dir;
   return v;
 }

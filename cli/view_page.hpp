@@ -14,9 +14,10 @@ namespace rt::cli {
 struct ViewerCliOptions {
   bool collision_meshes = false;
   int max_triangles = ViewerOptions{}.max_triangles;
+  double max_fps = ViewerOptions{}.max_fps;  ///< [Hz]
 };
 
-/// Registers --collision-meshes and --max-triangles in `group`.
+/// Registers --collision-meshes, --max-triangles and --view-fps in `group`.
 void add_viewer_options(CLI::App& app, ViewerCliOptions& options, const std::string& group);
 /// The options, with three.js from $RETARGET_THREE_JS_DIR when set (else libjs-three's folder).
 ViewerOptions viewer_options(const ViewerCliOptions& options = {});

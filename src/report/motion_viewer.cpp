@@ -414,9 +414,9 @@ std::string base64_decode(const std::string& text, const std::string& where) {
 // ---- scenes ------------------------------------------------------------------------------------
 
 ViewerPoints skeleton_points(const std::array<LandmarkTrack, kLandmarkCount>& tracks, double fps_tracks,
-                             const Reference& reference) {
+                             const ViewerScene& scene) {
   ViewerPoints p;
-  const int T = reference.num_frames();
+  const int T = scene.num_frames;
   std::array<int, kLandmarkCount> point_of{};
   point_of.fill(-1);
   std::vector<const LandmarkTrack*> present;
@@ -427,7 +427,7 @@ ViewerPoints skeleton_points(const std::array<LandmarkTrack, kLandmarkCount>& tr
     p.names.emplace_back(landmark_name(l));
     present.push_back(&t);
   }
-  if (p.names.empty() || T == 0 || !(fps_tracks > 0) || !(reference.fps > 0)) return {};
+  if (p.names.empty() || T == 0 || !(fps_tracks > 0) || !(scene.fps > 0)) return {};
   for (const auto& b : skeleton_bones()) {
     const int a = point_of[static_cast<std::size_t>(index(b[0]))], c = point_of[static_cast<std::size_t>(index(b[1]))];
     if (a >= 0 && c >= 0) p.bones.push_back({a, c});
@@ -436,7 +436,7 @@ ViewerPoints skeleton_points(const std::array<LandmarkTrack, kLandmarkCount>& tr
   p.p_W.reserve(static_cast<std::size_t>(T) * N * 3);
   p.valid.reserve(static_cast<std::size_t>(T) * N);
   for (int f = 0; f < T; ++f) {
-    const double x = f / reference.fps * fps_tracks;  // source frame of this reference frame
+    const double x = f / scene.fps * fps_tracks;  // source frame of this scene frame
     for (const LandmarkTrack* t : present) {
       const int n = static_cast<int>(t->p_W.cols());
       const int i0 = std::clamp(static_cast<int>(std::floor(x)), 0, n - 1), i1 = std::min(i0 + 1, n - 1);
@@ -454,25 +454,35 @@ ViewerScene motion_scene(const RobotModel& model, const Reference& reference, co
   require_input(T >= 1, where, "the reference has no frames");
   require_input(std::isfinite(reference.fps) && reference.fps > 0, where, "the reference has no frame rate");
   const ReferenceRobotMap map(model, reference, where);  // checks the joint set first
+  // Frames shown: every stride-th, so that the page plays at most max_fps.
+  const double max_fps = options.max_fps > 0 ? options.max_fps : reference.fps;
+  const int stride = std::max(1, static_cast<int>(std::ceil(reference.fps / max_fps - 1e-9)));
+  std::vector<int> frames;
+  for (int f = 0; f < T; f += stride) frames.push_back(f);
   ViewerScene s;
   s.mode = "motion";
-  s.fps = reference.fps;
-  s.num_frames = T;
+  s.fps = reference.fps / stride;
+  s.num_frames = static_cast<int>(frames.size());
   std::vector<int> model_links;
   scene_robot(model, options, s, model_links);
   s.title = options.title.empty() ? model.name() + ": " + base_name(where) : options.title;
+  if (stride > 1)
+    s.notes.push_back(format("shown at %g Hz: every %d%s frame of the %g Hz reference", s.fps, stride,
+                             stride == 2 ? "nd" : stride == 3 ? "rd" : "th", reference.fps));
   RobotData data(model);
   const std::size_t L = model_links.size();
-  s.link_poses.reserve(static_cast<std::size_t>(T) * L * 7);
-  for (int f = 0; f < T; ++f) {
+  s.link_poses.reserve(frames.size() * L * 7);
+  for (int f : frames) {
     update_kinematics(model, data, map.q(reference, f));
     scene_frame(model, data, model_links, s);
   }
-  if (reference.has_contacts()) s.contact = reference.contact;
+  if (reference.has_contacts())
+    for (std::size_t side = 0; side < 2; ++side)
+      for (int f : frames) s.contact[side].push_back(reference.contact[side][static_cast<std::size_t>(f)]);
   if (reference.com_W.cols() == T)
-    for (int f = 0; f < T; ++f) put_vec(s.com_planned_W, reference.com_W.col(f));
+    for (int f : frames) put_vec(s.com_planned_W, reference.com_W.col(f));
   if (reference.cop_W.cols() == T)
-    for (int f = 0; f < T; ++f) {
+    for (int f : frames) {
       s.cop_planned_W.push_back(static_cast<float>(reference.cop_W(0, f)));
       s.cop_planned_W.push_back(static_cast<float>(reference.cop_W(1, f)));
     }

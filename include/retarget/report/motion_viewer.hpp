@@ -86,14 +86,18 @@ struct ViewerOptions {
   /// G1's 393270 visual triangles become 47901 (1.1 MB in the page), still recognisable.
   int max_triangles = 60000;
   std::string three_js_dir = kThreeJsDefaultDir;  ///< folder of three.min.js (libjs-three)
+  /// [Hz] The page plays at most this rate: a faster reference keeps every n-th frame (n the
+  /// smallest with fps / n <= max_fps), which bounds the page size per second of motion.
+  double max_fps = 60;
 };
 
-/// The source human skeleton for a reference: landmark tracks (W, metres, robot proportions: the
+/// The source human skeleton for a scene: landmark tracks (W, metres, robot proportions: the
 /// scale pass's LandmarkTargets, at `fps_tracks`, the rate of the robot motion the reference was
-/// resampled from) sampled at the reference's frame times by linear interpolation, with bones
-/// between the usual anatomical neighbours. A point is valid where both neighbouring samples are.
+/// resampled from) sampled at the scene's frame times k / scene.fps by linear interpolation, with
+/// bones between the usual anatomical neighbours. A point is valid where both neighbouring
+/// samples are.
 ViewerPoints skeleton_points(const std::array<LandmarkTrack, kLandmarkCount>& tracks, double fps_tracks,
-                             const Reference& reference);
+                             const ViewerScene& scene);
 
 /// The scene of a reference played on `model`: per-frame FK of every link with geometry, soles,
 /// COM, and the reference's contacts, COM and COP. InputError "<where> ..." when the reference's

@@ -111,6 +111,23 @@ TEST(MotionViewer, MotionSceneIsTheRobotsForwardKinematics) {
     const Vec3 com = com_position(model, data);
     for (int k = 0; k < 3; ++k) EXPECT_NEAR(s.com_W[3 * static_cast<std::size_t>(f) + k], com[k], 1e-6);
   }
+  // A 120 Hz reference is shown at 60 Hz (ViewerOptions::max_fps): every 2nd frame.
+  FootLiftOptions fast = lift;
+  fast.fps = 120;
+  const Reference ref120 = foot_lift_reference(model, fast);
+  const ViewerScene s60 = motion_scene(model, ref120, "fast.csv");
+  EXPECT_EQ(s60.fps, 60);
+  EXPECT_EQ(s60.num_frames, (ref120.num_frames() + 1) / 2);
+  ASSERT_EQ(s60.contact[1].size(), static_cast<std::size_t>(s60.num_frames));
+  for (int k = 0; k < s60.num_frames; ++k) EXPECT_EQ(s60.contact[1][static_cast<std::size_t>(k)], ref120.contact[1][2 * static_cast<std::size_t>(k)]);
+  const ReferenceRobotMap map120(model, ref120, "fast");
+  update_kinematics(model, data, map120.q(ref120, 2 * 50));
+  EXPECT_NEAR(s60.com_W[3 * 50 + 2], com_position(model, data).z(), 1e-6);
+  ASSERT_FALSE(s60.notes.empty());
+  EXPECT_EQ(s60.notes.back(), "shown at 60 Hz: every 2nd frame of the 120 Hz reference");
+  ViewerOptions all;
+  all.max_fps = 120;
+  EXPECT_EQ(motion_scene(model, ref120, "fast.csv", all).num_frames, ref120.num_frames());
   // The lifted (right) foot's sole rises off the floor during the lift.
   const std::size_t mid = static_cast<std::size_t>(45);  // 1.5 s
   EXPECT_GT(s.sole_corners_W[24 * mid + 12 + 2], 0.03f);
@@ -135,7 +152,7 @@ TEST(MotionViewer, PageRoundTripsItsData) {
     t.state.assign(static_cast<std::size_t>(2 * T), SampleState::Measured);
   }
   tracks[static_cast<std::size_t>(index(Landmark::LeftKnee))].state[10] = SampleState::Missing;
-  s.skeleton = skeleton_points(tracks, 60, ref);
+  s.skeleton = skeleton_points(tracks, 60, s);
   const ViewerOptions options = fake_three_options();
   const std::string html = viewer_page_html(s, options);
   EXPECT_EQ(html.find("'</script>'"), std::string::npos);  // escaped inside the script
