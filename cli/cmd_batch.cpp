@@ -19,6 +19,7 @@
 #include "retarget/core/error.hpp"
 #include "retarget/core/strings.hpp"
 #include "retarget/passes/registry.hpp"
+#include "cli/view_page.hpp"
 
 namespace rt::cli {
 
@@ -161,9 +162,13 @@ Command setup_batch(CLI::App& parent) {
   app->add_option("--up-axis", o->up_axis, "Override the detected up axis: x, y, z (optionally -y, ...)")->group(g);
   app->add_option("--skeleton-profile,--marker-map", o->profile, "YAML mapping landmarks to joint or marker names")->group(g);
   app->add_flag("--keep-tpose", b.convert.keep_tpose, "Keep a synthetic T-pose at the start")->group(g);
+  app->add_flag("--view", b.convert.view,
+                "Also write each clip's motion viewer page <name>.html, linked from index.html (see 'retarget view')")
+      ->group(g);
   app->add_option("--package-path", b.convert.package_paths, "Extra root folder for package:// URIs (repeatable)")->group(g);
   app->footer(
       "Outputs per clip in OUTDIR: <name>.csv/.npz, <name>.meta.json, <name>.log, <name>.report/ (with --check),\n"
+      "<name>.html (with --view: the motion viewer page),\n"
       "<name>.complete (written last: the clip is up to date only with it);\n"
       "plus summary.json, summary.csv and index.html (summary-shard-I-of-N.* and index-shard-I-of-N.html with --shard).\n"
       "Exit status: 0 every clip ok or up to date; 1 some clip failed its check; 2 some clip had bad input or failed\n"
@@ -186,6 +191,7 @@ Command setup_batch(CLI::App& parent) {
             if (!o->shard.empty()) b.shard = parse_shard(o->shard);
             b.memory_limit_bytes = static_cast<std::uint64_t>(o->memory_limit_mb * (1 << 20));
             b.worker_executable = self_executable();
+            if (b.convert.view) require_three_js(viewer_options());  // once here, not once per clip
             if (o->dry_run) {
               print_plan(plan_batch(b), b);
               return kExitOk;

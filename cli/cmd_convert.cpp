@@ -11,6 +11,7 @@
 #include "cli/check_options.hpp"
 #include "cli/print_check.hpp"
 #include "cli/progress_line.hpp"
+#include "cli/view_page.hpp"
 #include "retarget/core/error.hpp"
 #include "retarget/core/file_io.hpp"
 #include "retarget/core/strings.hpp"
@@ -38,6 +39,8 @@ struct ConvertOptions {
   bool check = false;       // run the dynamics check on the result (issue 5)
   std::string report_dir;   // write the check's report folder here (implies --check)
   CheckCliOptions check_options;
+  bool view = false;        // write the motion viewer page beside the output
+  ViewerCliOptions viewer;
   std::vector<std::string> disabled;  // filled from the --no-<pass> flags
   std::vector<std::string> enabled;   // filled from the --<pass> flags of passes not in the default pipeline
 };
@@ -176,6 +179,10 @@ Command setup_convert(CLI::App& parent) {
   app->add_option("--report", o->report_dir, "With --check: write report.json, report.txt and SVG plots into this folder "
                                              "(implies --check)");
   add_check_options(app, o->check_options);
+  app->add_flag("--view", o->view,
+                "Also write the motion viewer page <output stem>.html: the robot with the source skeleton "
+                "(scaled landmarks) over it (see 'retarget view')");
+  add_viewer_options(*app, o->viewer, "Viewer (with --view)");
   app->footer("Exit status: 0 ok (and the check passed), 1 the check failed (outputs are written), 2 bad input.");
   return {app, [o, app] {
             if (o->list_passes) {
@@ -195,6 +202,7 @@ Command setup_convert(CLI::App& parent) {
             if (!o->up_axis.empty()) o->request.motion.up_axis = o->up_axis;
             o->request.motion.drop_tpose = !o->keep_tpose;
             o->request.time_scale = o->time_scale;
+            if (o->view) require_three_js(viewer_options(o->viewer));  // fail before converting
             const auto model = RobotModel::load(o->robot, o->package_paths);
             ProgressLine progress;
             const std::string clip_name = base_name(o->request.clip_path);
@@ -221,6 +229,13 @@ Command setup_convert(CLI::App& parent) {
             const ConvertResult r = run_convert(o->request, *model);
             progress.stop();
             print_summary(r, o->verbose);
+            if (o->view) {
+              const ViewerOptions options = viewer_options(o->viewer);
+              ViewerScene scene = motion_scene(*model, r.clip.reference, r.output_stem, options);
+              scene.title = model->name() + ": " + clip_name;
+              scene.skeleton = skeleton_points(r.clip.targets.tracks, r.clip.motion.fps, scene);
+              write_view_page(scene, options, r.output_stem + ".html");
+            }
             if (!o->check && o->report_dir.empty()) return kExitOk;
             ValidateRequest check;
             check.reference_path = r.written.empty() ? r.output_stem : r.written.front();

@@ -12,6 +12,8 @@
 #include "cli/command.hpp"
 #include "cli/exit_codes.hpp"
 #include "cli/numeric_option.hpp"
+#include "cli/view_page.hpp"
+#include "retarget/core/error.hpp"
 #include "retarget/core/strings.hpp"
 #include "retarget/model/robot_checks.hpp"
 #include "retarget/model/robot_model.hpp"
@@ -30,6 +32,9 @@ struct InspectOptions {
   double source_fps = 0;
   bool keep_tpose = false;
   std::string mjcf_path;  ///< robot: write the generated MuJoCo model here
+  bool view = false;      ///< robot: write the viewer page of the standing pose
+  std::string view_path;  ///< its path ("" = <robot name>.html)
+  ViewerCliOptions viewer;
 };
 
 // A robot is a name, a folder or a .yaml; anything else that is a file is a motion clip.
@@ -135,6 +140,10 @@ int inspect_robot(const InspectOptions& o) {
     model->write_mjcf(o.mjcf_path);
     std::cout << "  wrote         " << o.mjcf_path << " (the generated MuJoCo model; its meshes beside it as mesh<k>.stl)\n";
   }
+  if (o.view) {
+    const ViewerOptions options = viewer_options(o.viewer);
+    write_view_page(robot_scene(*model, options), options, o.view_path.empty() ? model->name() + ".html" : o.view_path);
+  }
   std::cout << "\njoints (model order; csv = export column after the 7 root columns)\n";
   std::cout << "   #  csv  name                          type          lower    upper  vel-lim  effort  standing\n";
   std::vector<int> column(static_cast<std::size_t>(model->nu()), -1);
@@ -167,7 +176,17 @@ Command setup_inspect(CLI::App& parent) {
                   "Robot: write the generated MuJoCo model (MJCF) to this file, its meshes beside it as mesh<k>.stl");
   app->add_option("--package-path", opts->package_paths,
                   "Extra root folder for package:// URIs (repeatable; searched before robot.yaml's and ROS_PACKAGE_PATH)");
-  return {app, [opts] { return is_clip(opts->target) ? inspect_clip(*opts) : inspect_robot(*opts); }};
+  app->add_flag("--view", opts->view,
+                "Robot: write the viewer page of the standing pose with soles and landmarks (see 'retarget view')");
+  app->add_option("-o,--output", opts->view_path, "Robot: the --view page (default: <robot name>.html)");
+  add_viewer_options(*app, opts->viewer, "Viewer (with --view)");
+  return {app, [opts] {
+            const bool clip = is_clip(opts->target);
+            if (!opts->view && !opts->view_path.empty()) throw InputError("-o", "names the --view page; add --view");
+            if (opts->view && clip) throw InputError("--view", "shows a robot; for a clip use 'retarget convert CLIP --view'");
+            if (opts->view) require_three_js(viewer_options(opts->viewer));
+            return clip ? inspect_clip(*opts) : inspect_robot(*opts);
+          }};
 }
 
 }  // namespace rt::cli

@@ -21,5 +21,6 @@ Command setup_validate(CLI::App& parent);
 Command setup_batch(CLI::App& parent);
 Command setup_merge_summaries(CLI::App& parent);
 Command setup_init_robot(CLI::App& parent);
+Command setup_view(CLI::App& parent);
 
 }  // namespace rt::cli

@@ -26,7 +26,7 @@ int main(int argc, char** argv) {
       "Run 'retarget <command> --help' for a command's options.");
 
   std::vector<Command> commands = {setup_convert(app), setup_validate(app), setup_batch(app),
-                                   setup_merge_summaries(app), setup_inspect(app), setup_init_robot(app)};
+                                   setup_merge_summaries(app), setup_inspect(app), setup_init_robot(app), setup_view(app)};
 
   try {
     app.parse(argc, argv);

@@ -280,7 +280,9 @@ BatchPlan plan_batch(const BatchOptions& o) {
       } catch (const InputError&) {
         expected.source_sha256.clear();  // missing or unreadable: never up to date; the worker reports it
       }
-      const UpToDate u = check_up_to_date(c.input, paths, expected, o.check);
+      UpToDate u = check_up_to_date(c.input, paths, expected, o.check);
+      std::error_code view_ec;
+      if (u.up_to_date && o.convert.view && !fs::is_regular_file(paths.view, view_ec)) u = {false, "no viewer page (--view)"};
       p.up_to_date = u.up_to_date;
       p.reason = u.reason;
     }

@@ -51,7 +51,8 @@ Json clip_json(const ClipResult& c) {
                 {"log", string_or_null(c.files.log)},
                 {"report", string_or_null(c.files.report)},
                 {"report_text", string_or_null(c.files.report_text)},
-                {"plots", c.files.plots}};
+                {"plots", c.files.plots},
+                {"view", string_or_null(c.files.view)}};
   return {{"name", c.name},
           {"input", c.input},
           {"input_bytes", c.input_bytes},
@@ -165,6 +166,7 @@ ClipResult parse_clip(const Reader& r, const Json& j, const std::string& p) {
   c.files.report = r.str(f, "report", fp + ".report", true);
   c.files.report_text = r.str(f, "report_text", fp + ".report_text", true);
   c.files.plots = r.strings(f, "plots", fp + ".plots");
+  if (f.contains("view")) c.files.view = r.str(f, "view", fp + ".view", true);  // absent before the viewer
   return c;
 }
 
@@ -410,6 +412,7 @@ std::string summary_html(const BatchSummary& s) {
     h += "<td>" + html_escape(c.main_violation) + "</td>";
     h += "<td class=\"err\">" + html_escape(c.error) + "</td><td>";
     std::vector<std::string> links;
+    if (!c.files.view.empty()) links.push_back(link(c.files.view, "view"));
     for (const std::string& d : c.files.data) links.push_back(link(d, fs::path(d).extension().string().substr(1)));
     if (!c.files.meta.empty()) links.push_back(link(c.files.meta, "meta"));
     if (!c.files.log.empty()) links.push_back(link(c.files.log, "log"));
@@ -525,7 +528,7 @@ BatchSummary merge_summaries(const std::vector<std::string>& summary_paths, cons
       if (!inserted) throw InputError(path, "clip '" + c.name + "' is also in " + it->second);
       for (std::string& d : c.files.data) d = rebase(d, from, out);
       for (std::string& p : c.files.plots) p = rebase(p, from, out);
-      for (std::string* f : {&c.files.meta, &c.files.log, &c.files.report, &c.files.report_text}) *f = rebase(*f, from, out);
+      for (std::string* f : {&c.files.meta, &c.files.log, &c.files.report, &c.files.report_text, &c.files.view}) *f = rebase(*f, from, out);
       merged.clips.push_back(std::move(c));
     }
   }

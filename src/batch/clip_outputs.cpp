@@ -175,6 +175,7 @@ ClipOutputPaths clip_output_paths(const std::string& out_folder, const std::stri
   p.report_dir = p.stem + ".report";
   p.report = p.report_dir + "/report.json";
   p.complete = p.stem + ".complete";
+  p.view = p.stem + ".html";
   return p;
 }
 
@@ -263,6 +264,7 @@ std::string read_clip_outputs(ClipResult& r, const ClipOutputPaths& paths, const
   } else {
     problem = is_file(paths.meta) ? "meta.json is unreadable" : "no meta.json was written";
   }
+  if (is_file(paths.view)) r.files.view = relative_to(paths.view, out_folder);
   if (check) {
     if (is_file(paths.report)) {
       try {

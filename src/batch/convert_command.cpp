@@ -53,6 +53,7 @@ std::vector<std::string> convert_arguments(const BatchClip& clip, const ConvertS
   if (s.up_axis) a.insert(a.end(), {"--up-axis", *s.up_axis});
   if (!s.profile.empty()) a.insert(a.end(), {"--skeleton-profile", s.profile});
   if (s.keep_tpose) a.push_back("--keep-tpose");
+  if (s.view) a.push_back("--view");
   for (const std::string& p : s.package_paths) a.insert(a.end(), {"--package-path", p});
   if (!report_dir.empty()) a.insert(a.end(), {"--check", "--report", report_dir});
   return a;

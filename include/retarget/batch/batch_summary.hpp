@@ -86,6 +86,7 @@ struct ClipFiles {
   std::vector<std::string> data;  ///< .csv / .npz
   std::string meta, log, report, report_text;
   std::vector<std::string> plots;  ///< SVG plots of the check
+  std::string view;                ///< the motion viewer page (batch --view)
 };
 
 struct ClipResult {

@@ -7,6 +7,7 @@
 ///   out/walks/walk01.meta.json     written last by convert: its presence marks complete data files
 ///   out/walks/walk01.log           the worker's stdout + stderr
 ///   out/walks/walk01.report/       report.json, report.txt and SVG plots (with --check)
+///   out/walks/walk01.html          the motion viewer page (with --view; linked whenever present)
 ///   out/walks/walk01.complete      the completion marker, written by the batch last of all
 ///
 /// Up to date (the clip is skipped unless --force) when all of these hold:
@@ -40,6 +41,7 @@ struct ClipOutputPaths {
   std::string report_dir;  ///< stem + .report
   std::string report;      ///< report_dir + /report.json
   std::string complete;    ///< stem + .complete (the completion marker)
+  std::string view;        ///< stem + .html (the motion viewer page, with --view)
 };
 
 ClipOutputPaths clip_output_paths(const std::string& out_folder, const std::string& output_name,

@@ -29,6 +29,7 @@ struct ConvertSettings {
   std::optional<std::string> up_axis;        ///< --up-axis
   std::string profile;                       ///< --skeleton-profile (absolute path; "" = none)
   bool keep_tpose = false;                   ///< --keep-tpose
+  bool view = false;                         ///< --view (the viewer page; not part of the options hash)
   std::vector<std::string> package_paths;    ///< --package-path (absolute)
 };
 

@@ -44,6 +44,7 @@ ClipResult ok_clip(const std::string& name) {
   c.files.report = name + ".report/report.json";
   c.files.report_text = name + ".report/report.txt";
   c.files.plots = {name + ".report/com_cop_y.svg"};
+  c.files.view = name + ".html";
   return c;
 }
 
@@ -116,6 +117,8 @@ TEST(BatchSummary, JsonRoundTrip) {
   EXPECT_DOUBLE_EQ(w.landmark_error_median_m, 0.031);
   EXPECT_EQ(w.check, CheckOutcome::Passed);
   EXPECT_EQ(w.files.plots, s.clips[2].files.plots);
+  EXPECT_EQ(w.files.view, "walk.html");
+  EXPECT_EQ(r.clips[0].files.view, "");  // null for a clip without a viewer page
   EXPECT_NE(text.find("\"exit_status\": 2"), std::string::npos);
   EXPECT_NE(text.find("\"bad-input\": 1"), std::string::npos);
   EXPECT_NE(text.find("\"landmark_error_median_m\": null"), std::string::npos);  // failed clips: null metrics
@@ -162,6 +165,7 @@ TEST(BatchSummary, HtmlEscapesAndLinks) {
   EXPECT_NE(html.find("href=\"walk.csv\""), std::string::npos);
   EXPECT_NE(html.find("href=\"walk.report/com_cop_y.svg\""), std::string::npos);
   EXPECT_NE(html.find("href=\"walk.report/report.txt\""), std::string::npos);
+  EXPECT_NE(html.find("<a href=\"walk.html\">view</a>"), std::string::npos);
   EXPECT_NE(html.find("href=\"sub/crash%2Cy.log\""), std::string::npos);
   EXPECT_NE(html.find("exit status 2"), std::string::npos);
   EXPECT_NE(html.find("class=\"st bad-input\""), std::string::npos);
@@ -199,6 +203,7 @@ TEST(BatchSummary, MergeRebasesLinksAndRecounts) {
   EXPECT_EQ(m.clips[0].files.log, "../m2/out/broken.log");
   EXPECT_EQ(m.clips[2].files.data, std::vector<std::string>{"../m1/out/walk.csv"});
   EXPECT_EQ(m.clips[2].files.plots, std::vector<std::string>{"../m1/out/walk.report/com_cop_y.svg"});
+  EXPECT_EQ(m.clips[2].files.view, "../m1/out/walk.html");
   EXPECT_EQ(m.jobs, 4);
   EXPECT_DOUBLE_EQ(m.wall_s, 20);
   EXPECT_EQ(m.started_utc, "2024-05-01T11:00:00Z");
