@@ -6,19 +6,13 @@
 #include "retarget/balance/support_polygon.hpp"
 #include "retarget/balance/zmp_plan.hpp"
 #include "retarget/core/error.hpp"
+#include "retarget/core/smoothstep.hpp"
 #include "retarget/ik/landmark_ik.hpp"
 #include "retarget/model/centroidal.hpp"
 #include "retarget/model/kinematics.hpp"
 #include "retarget/reference/robot_mapping.hpp"
 
 namespace rt {
-
-namespace {
-double smoothstep(double x) {
-  x = std::clamp(x, 0.0, 1.0);
-  return x * x * x * (10 - 15 * x + 6 * x * x);
-}
-}  // namespace
 
 Reference foot_lift_reference(const RobotModel& model, const FootLiftOptions& o) {
   if (!(o.lift_start_s >= 0 && o.lift_end_s > o.lift_start_s + 2 * o.ramp_s && o.duration_s >= o.lift_end_s))

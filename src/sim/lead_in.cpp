@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "retarget/core/smoothstep.hpp"
 #include "retarget/ik/landmark_ik.hpp"
 #include "retarget/model/kinematics.hpp"
 #include "retarget/model/robot_model.hpp"
@@ -10,15 +11,6 @@
 #include "retarget/sim/sole_geometry.hpp"
 
 namespace rt {
-
-namespace {
-
-double smoothstep(double x) {
-  x = std::clamp(x, 0.0, 1.0);
-  return x * x * x * (10 - 15 * x + 6 * x * x);
-}
-
-}  // namespace
 
 LeadIn standing_lead_in(const RobotModel& model, const Reference& ref, double lift_s) {
   LeadIn out;

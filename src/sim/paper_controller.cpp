@@ -6,6 +6,7 @@
 
 #include "retarget/balance/support_polygon.hpp"
 #include "retarget/model/kinematics.hpp"
+#include "retarget/sim/contact_trunk_map.hpp"
 #include "retarget/model/robot_model.hpp"
 #include "retarget/sim/sole_geometry.hpp"
 
@@ -132,32 +133,12 @@ void PaperController::control(const ControlInput& in, ControlOutput& out) {
   // --- reference, contact schedule, trunk mapping --------------------------------------------
   ReferenceSample& r = out.reference;
   r = signal.at(t_ref, map_);
-  if (settling) {
-    r.v.setZero();
-    r.a.setZero();
-    for (auto& x : r.v_sole) x.setZero();
-    for (auto& x : r.a_sole) x.setZero();
-  }
+  if (settling) hold_still(r);
   if (r.contact != prev_contact_) contact_change_pending_ = true;
   prev_contact_ = r.contact;
   if (o.trunk_mapping && contact_change_pending_ && (r.contact[0] || r.contact[1])) {
-    bool all_pushing = true;
-    for (int f = 0; f < 2; ++f)
-      if (r.contact[static_cast<std::size_t>(f)] && contacts.feet[static_cast<std::size_t>(f)].normal_force_n < o.trunk.force_threshold_n)
-        all_pushing = false;
-    if (all_pushing) {
-      std::vector<Vec3> p_ref, p_act;
-      const TrunkTransform identity;
-      const ReferenceSample unmapped = signal.at(t_ref, identity);
-      for (int f = 0; f < 2; ++f) {
-        if (!r.contact[static_cast<std::size_t>(f)]) continue;
-        const Sole& sole = model.soles()[static_cast<std::size_t>(f)];
-        const Iso3 X_link = link_pose(model, data, sole.link);
-        // Eq. (20)-(24) use only centres, principal axes and spreads: corner order is irrelevant.
-        for (const Vec3& c : sole_corners_W(flat_on_floor(unmapped.X_W_sole[static_cast<std::size_t>(f)]), sole)) p_ref.push_back(c);
-        for (const Vec3& c : sole.corners_L()) p_act.push_back(X_link * c);
-      }
-      map_ = compute_trunk_transform(p_ref, p_act, o.trunk);
+    if (contact_feet_pushing(r.contact, contacts, o.trunk.force_threshold_n)) {
+      map_ = trunk_transform_at_contacts(model, data, signal.at(t_ref, TrunkTransform{}), r.contact, o.trunk);
       memos_->cop_ref.clear();
       contact_change_pending_ = false;
       ++trunk_mapping_updates_;

@@ -8,6 +8,7 @@
 #include "retarget/balance/support_polygon.hpp"
 #include "retarget/balance/zmp_plan.hpp"
 #include "retarget/model/kinematics.hpp"
+#include "retarget/sim/contact_trunk_map.hpp"
 #include "retarget/model/robot_model.hpp"
 #include "retarget/sim/dynamics_check.hpp"
 #include "retarget/sim/sole_geometry.hpp"
@@ -137,22 +138,9 @@ void WalkingController::control(const ControlInput& in, ControlOutput& out) {
   if (contact_now != prev_contact_) contact_change_pending_ = true;
   prev_contact_ = contact_now;
   if (o.trunk_mapping && contact_change_pending_ && (contact_now[0] || contact_now[1])) {
-    bool all_pushing = true;
-    for (int f = 0; f < 2; ++f)
-      if (contact_now[static_cast<std::size_t>(f)] && contacts.feet[static_cast<std::size_t>(f)].normal_force_n < w.trunk.force_threshold_n)
-        all_pushing = false;
-    if (all_pushing) {
-      std::vector<Vec3> p_ref, p_act;
-      const ReferenceSample unmapped = signal.at(t_ref, TrunkTransform{});
-      for (int f = 0; f < 2; ++f) {
-        if (!contact_now[static_cast<std::size_t>(f)]) continue;
-        const Sole& sole = model.soles()[static_cast<std::size_t>(f)];
-        const Iso3 X_link = link_pose(model, data, sole.link);
-        for (const Vec3& c : sole_corners_W(flat_on_floor(unmapped.X_W_sole[static_cast<std::size_t>(f)]), sole)) p_ref.push_back(c);
-        for (const Vec3& c : sole.corners_L()) p_act.push_back(X_link * c);
-      }
+    if (contact_feet_pushing(contact_now, contacts, w.trunk.force_threshold_n)) {
       map_from_ = current_map(t_sim);
-      map_to_ = compute_trunk_transform(p_ref, p_act, w.trunk);
+      map_to_ = trunk_transform_at_contacts(model, data, signal.at(t_ref, TrunkTransform{}), contact_now, w.trunk);
       blend_start_s_ = t_sim;
       contact_change_pending_ = false;
       ++trunk_mapping_updates_;
@@ -161,12 +149,7 @@ void WalkingController::control(const ControlInput& in, ControlOutput& out) {
   const TrunkTransform map = current_map(t_sim);
   ReferenceSample& r = out.reference;
   r = signal.at(t_ref, map);
-  if (holding) {
-    r.v.setZero();
-    r.a.setZero();
-    for (auto& x : r.v_sole) x.setZero();
-    for (auto& x : r.a_sole) x.setZero();
-  }
+  if (holding) hold_still(r);
 
   // --- balance: DCM tracking of the plan (its lead-in covers the settle phase) -------------------
   const double t_plan = std::max(in.t_signal_s, plan_.start_s);
