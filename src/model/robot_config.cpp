@@ -247,10 +247,22 @@ void ConfigParser::parse_standing(const YamlView& standing) {
 }
 
 void ConfigParser::parse_controller(const YamlView& controller) {
-  mark(controller).check_keys({"kp", "kd", "joint_gains"});
+  mark(controller).check_keys({"kp", "kd", "group_gains", "joint_gains"});
   ControllerConfig& k = c_.controller;
   k.kp = number_or(controller, "kp", k.kp, 0, 1e6, "kp");
   k.kd = number_or(controller, "kd", k.kd, 0, 1e6, "kd");
+  if (auto gg = controller.find("group_gains")) {
+    mark(*gg).expect_map();
+    gg->check_keys({"legs", "torso", "arms"});
+    for (const auto& name : gg->keys()) {
+      const YamlView g = mark(gg->at(name));
+      g.check_keys({"kp", "kd"});
+      JointGains gains{k.kp, k.kd};
+      gains.kp = number_or(g, "kp", gains.kp, 0, 1e6, "kp");
+      gains.kd = number_or(g, "kd", gains.kd, 0, 1e6, "kd");
+      k.group_gains[name] = gains;
+    }
+  }
   if (auto jg = controller.find("joint_gains")) {
     mark(*jg).expect_map();
     for (const auto& name : jg->keys()) {

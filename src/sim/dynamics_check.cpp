@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "retarget/core/strings.hpp"
+#include "retarget/model/joint_groups.hpp"
 #include "retarget/model/kinematics.hpp"
 #include "retarget/model/robot_model.hpp"
 #include "retarget/sim/lead_in.hpp"
@@ -26,9 +27,16 @@ DynamicsCheckOptions default_check_options(const RobotModel& model) {
   o.tracking.root_kd = c.kd;
   o.tracking.foot_kp = c.kp;
   o.tracking.foot_kd = c.kd;
-  if (!c.joint_gains.empty()) {
+  if (!c.joint_gains.empty() || !c.group_gains.empty()) {
     o.tracking.kp_joint = VecX::Constant(model.nu(), c.kp);
     o.tracking.kd_joint = VecX::Constant(model.nu(), c.kd);
+    const std::vector<JointGroup> groups = joint_groups(model);
+    for (int i = 0; i < model.nu(); ++i) {
+      const auto it = c.group_gains.find(joint_group_name(groups[static_cast<std::size_t>(i)]));
+      if (it == c.group_gains.end()) continue;
+      o.tracking.kp_joint[i] = it->second.kp;
+      o.tracking.kd_joint[i] = it->second.kd;
+    }
     for (const auto& [name, gains] : c.joint_gains) {
       const int j = model.joint_index(name);
       const int i = model.joints()[static_cast<std::size_t>(j)].qpos_index - 7;

@@ -91,7 +91,10 @@ struct JointGains {
 struct ControllerConfig {
   double kp = 36.0;  ///< [1/s^2] default position gain of eq. (2)
   double kd = 12.0;  ///< [1/s] default velocity gain of eq. (2)
-  std::map<std::string, JointGains> joint_gains;  ///< per-joint overrides
+  /// Per joint group: "legs" (joints that move a sole), "arms" (joints that move a hand or wrist
+  /// landmark but not the head/chest), "torso" (the rest). Override kp/kd for that group.
+  std::map<std::string, JointGains> group_gains;
+  std::map<std::string, JointGains> joint_gains;  ///< per-joint overrides (above the groups)
 };
 
 struct SimulationConfig {
