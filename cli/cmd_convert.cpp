@@ -17,6 +17,7 @@
 #include "retarget/core/strings.hpp"
 #include "retarget/jobs/convert_job.hpp"
 #include "retarget/jobs/validate_job.hpp"
+#include "retarget/motion/asf/asf_motion.hpp"
 #include "retarget/model/robot_model.hpp"
 #include "retarget/passes/registry.hpp"
 
@@ -43,6 +44,10 @@ struct ConvertOptions {
   ViewerCliOptions viewer;
   std::vector<std::string> disabled;  // filled from the --no-<pass> flags
   std::vector<std::string> enabled;   // filled from the --<pass> flags of passes not in the default pipeline
+  // Set by `retarget batch` for its workers (hidden options): where the clip (and a manifest's
+  // profile) must really be when opened, and where every output must really be written.
+  std::string input_root, output_root;
+  bool confine_profile = false;
 };
 
 // A pass's usual cost relative to the others, for the progress line's ETA only. Measured with -v:
@@ -183,6 +188,11 @@ Command setup_convert(CLI::App& parent) {
                 "Also write the motion viewer page <output stem>.html: the robot with the source skeleton "
                 "(scaled landmarks) over it (see 'retarget view')");
   add_viewer_options(*app, o->viewer, "Viewer (with --view)");
+  app->add_option("--input-root", o->input_root, "(batch workers) the clip must resolve inside this folder when opened")
+      ->group("");
+  app->add_flag("--confine-profile", o->confine_profile, "(batch workers) the profile is under --input-root too")->group("");
+  app->add_option("--output-root", o->output_root, "(batch workers) every output must be written inside this folder")
+      ->group("");
   app->footer("Exit status: 0 ok (and the check passed), 1 the check failed (outputs are written), 2 bad input.");
   return {app, [o, app] {
             if (o->list_passes) {
@@ -204,6 +214,23 @@ Command setup_convert(CLI::App& parent) {
             o->request.time_scale = o->time_scale;
             if (o->view) require_three_js(viewer_options(o->viewer));  // fail before converting
             const auto model = RobotModel::load(o->robot, o->package_paths);
+            // Checked where the files are opened (file_io.hpp), for the rest of this command.
+            PathConfinement confinement;
+            confinement.write_root = o->output_root;
+            if (!o->input_root.empty()) {
+              confinement.read_root = o->input_root;
+              confinement.confined_reads.push_back(o->request.clip_path);
+              if (o->confine_profile && !o->request.motion.profile_path.empty())
+                confinement.confined_reads.push_back(o->request.motion.profile_path);
+              if (ends_with(to_lower(o->request.clip_path), ".amc")) {
+                try {
+                  confinement.confined_reads.push_back(find_asf_for(o->request.clip_path, o->request.motion.asf_path));
+                } catch (const InputError&) {
+                  // no ASF: the loader reports it
+                }
+              }
+            }
+            const ScopedPathConfinement confined(std::move(confinement));
             ProgressLine progress;
             const std::string clip_name = base_name(o->request.clip_path);
             progress.set("converting " + clip_name + ": loading", 0.0);

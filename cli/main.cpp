@@ -10,6 +10,7 @@
 #include "cli/exit_codes.hpp"
 #include "cli/suggest.hpp"
 #include "retarget/core/error.hpp"
+#include "retarget/core/strings.hpp"
 #include "retarget/core/version.hpp"
 
 int main(int argc, char** argv) {
@@ -39,8 +40,14 @@ int main(int argc, char** argv) {
         return kExitBadInput;
       }
     }
-    const int rc = app.exit(e);  // prints help / version / the usage error
-    return rc == 0 ? kExitOk : kExitBadInput;
+    // --help and --version (exit code 0): CLI11 prints them. A usage error: one line, as every
+    // other error (CLI11's own printer adds a second "Run with --help" line).
+    if (e.get_exit_code() == 0) return app.exit(e) == 0 ? kExitOk : kExitBadInput;
+    std::string command;
+    for (const CLI::App* sub : app.get_subcommands([](const CLI::App* s) { return s->parsed(); }))
+      command = sub->get_name() + " ";
+    std::cerr << "error: " << rt::one_line(e.what()) << " (see 'retarget " << command << "--help')\n";
+    return kExitBadInput;
   }
 
   try {

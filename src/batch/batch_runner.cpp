@@ -19,6 +19,7 @@
 #include "retarget/batch/clip_outputs.hpp"
 #include "retarget/batch/worker_process.hpp"
 #include "retarget/core/error.hpp"
+#include "retarget/core/file_io.hpp"
 #include "retarget/core/sha256.hpp"
 #include "retarget/core/strings.hpp"
 #include "retarget/model/robot_config.hpp"
@@ -311,6 +312,11 @@ BatchSummary run_batch(const BatchOptions& options, const BatchCallbacks& callba
   if (ec) throw InputError(o.output_dir, "cannot create the output folder: " + ec.message());
   const std::string tag = o.shard ? o.shard->file_tag() : std::string();
   const ClipLocks lock((fs::path(o.output_dir) / ".retarget-batch.lock").string(), plan.clips);
+  // The batch's own writes (completion markers, summaries) stay inside -o as the workers' do.
+  const std::string output_root = resolved_path(fs::absolute(o.output_dir)).string();
+  PathConfinement confinement;
+  confinement.write_root = output_root;
+  const ScopedPathConfinement confined(std::move(confinement));
 
   BatchSummary summary;
   summary.robot = plan.robot_name;
@@ -414,6 +420,14 @@ BatchSummary run_batch(const BatchOptions& options, const BatchCallbacks& callba
         const std::vector<std::string> args =
             convert_arguments(clip, o.convert, robot, w.paths.stem, o.check ? w.paths.report_dir : "");
         launch.argv.insert(launch.argv.end(), args.begin(), args.end());
+        // The worker checks these again where it opens the files (a symlink may change after
+        // the check above): the clip and a manifest's profile inside the input root, every
+        // output inside -o.
+        if (!clip.input_root.empty()) {
+          launch.argv.insert(launch.argv.end(), {"--input-root", clip.input_root});
+          if (clip.overrides.profile) launch.argv.push_back("--confine-profile");
+        }
+        launch.argv.insert(launch.argv.end(), {"--output-root", output_root});
         launch.extra_env = env;
         launch.log_path = w.paths.log;
         launch.timeout_s = o.timeout_s;

@@ -109,7 +109,10 @@ WorkerProcess::WorkerProcess(const WorkerLaunch& launch) : timeout_s_(launch.tim
   s.memory_limit_bytes = launch.memory_limit_bytes;
 
   const std::string log = launch.log_path.empty() ? std::string("/dev/null") : launch.log_path;
-  const int log_fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  // O_NOFOLLOW: a symlink planted at the log's name must not truncate the file it points to.
+  const int log_fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC | (launch.log_path.empty() ? 0 : O_NOFOLLOW), 0644);
+  if (log_fd < 0 && errno == ELOOP)
+    throw InputError(log, "is a symlink; the worker log is not written through it");
   if (log_fd < 0) throw InputError(log, std::string("cannot create the worker log: ") + std::strerror(errno));
   const int null_fd = ::open("/dev/null", O_RDONLY | O_CLOEXEC);
   if (null_fd < 0) {

@@ -1,7 +1,7 @@
 #include "retarget/core/json_document.hpp"
 
 #include <algorithm>
-#include <set>
+#include <map>
 #include <vector>
 
 #include "retarget/core/error.hpp"
@@ -29,12 +29,33 @@ std::string text_location(const std::string& file, std::string_view text, std::s
   return format("%s:%zu:%zu", file.c_str(), line, col);
 }
 
+// Byte offset of the `index`-th (0-based) object key of JSON text: a key is a string token followed
+// by ':'. Only called for text that nlohmann has parsed up to past that key. npos if not found.
+std::size_t key_offset(std::string_view text, std::size_t index) {
+  std::size_t seen = 0;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    if (text[i] != '"') continue;
+    const std::size_t start = i;
+    for (++i; i < text.size() && text[i] != '"'; ++i)
+      if (text[i] == '\\') ++i;
+    std::size_t j = i + 1;
+    while (j < text.size() && (text[j] == ' ' || text[j] == '\t' || text[j] == '\n' || text[j] == '\r')) ++j;
+    if (j < text.size() && text[j] == ':' && seen++ == index) return start;
+  }
+  return std::string_view::npos;
+}
+
+// A key seen twice in one object: the path ("contacts.left") and the key events' indices, located
+// in the text once the parse is abandoned.
+struct DuplicateKey {
+  std::string path;
+  std::size_t first_index, index;
+};
+
 // Rejects a key that appears twice in one object (nlohmann keeps the last one silently, so a
 // second "fps" would override the first unseen). Keys are named by their path ("contacts.left").
 class DuplicateKeyCheck {
  public:
-  explicit DuplicateKeyCheck(std::string file) : file_(std::move(file)) {}
-
   bool operator()(int /*depth*/, Json::parse_event_t event, Json& parsed) {
     switch (event) {
       case Json::parse_event_t::object_start: scopes_.push_back({true, {}, {}}); break;
@@ -47,8 +68,10 @@ class DuplicateKeyCheck {
         if (!scopes_.empty() && scopes_.back().is_object) {
           Scope& s = scopes_.back();
           s.last_key = parsed.is_string() ? parsed.get<std::string>() : parsed.dump();
-          if (!s.keys.insert(s.last_key).second) throw InputError(file_ + ": " + path(), "duplicate key");
+          const auto [it, fresh] = s.keys.emplace(s.last_key, keys_seen_);
+          if (!fresh) throw DuplicateKey{path(), it->second, keys_seen_};
         }
+        ++keys_seen_;
         break;
       case Json::parse_event_t::value: break;
     }
@@ -58,7 +81,7 @@ class DuplicateKeyCheck {
  private:
   struct Scope {
     bool is_object;
-    std::set<std::string> keys;
+    std::map<std::string, std::size_t> keys;  ///< key -> index of its key event
     std::string last_key;
   };
   std::string path() const {
@@ -67,8 +90,8 @@ class DuplicateKeyCheck {
       if (s.is_object && !s.last_key.empty()) p += (p.empty() ? "" : ".") + s.last_key;
     return p;
   }
-  std::string file_;
   std::vector<Scope> scopes_;
+  std::size_t keys_seen_ = 0;
 };
 
 }  // namespace
@@ -97,7 +120,13 @@ std::string json_type_phrase(const Json& j) {
 Json parse_json_object(std::string_view text, const std::string& file, const std::string& what, int max_depth) {
   Json j;
   try {
-    j = Json::parse(text.begin(), text.end(), DuplicateKeyCheck(file));
+    j = Json::parse(text.begin(), text.end(), DuplicateKeyCheck());
+  } catch (const DuplicateKey& d) {
+    const std::size_t at = key_offset(text, d.index), first = key_offset(text, d.first_index);
+    if (at == std::string_view::npos || first == std::string_view::npos) throw InputError(file, d.path + ": duplicate key");
+    const std::string first_at = text_location("", text, first + 1);  // ":line:col"
+    throw InputError(text_location(file, text, at + 1), d.path + ": duplicate key (first at line " +
+                                                            first_at.substr(1, first_at.find(':', 1) - 1) + ")");
   } catch (const Json::parse_error& e) {
     // what() is "[json.exception.parse_error.101] parse error at line 3, column 5: <detail>";
     // keep the detail, use our own location format.

@@ -103,17 +103,25 @@ YamlView YamlView::at(std::size_t index) const {
   return YamlView(node_[index], file_, path_ + "[" + std::to_string(index) + "]");
 }
 
+// A sequence or map as a key ("[a]: 1", "? {a: 1}") has no name: as<std::string>() threw
+// yaml-cpp's own exception (an internal error, exit 3). It is an error at the key's line.
+const char* const kComplexKey = "expected a plain key, got a sequence or map as key";
+
 std::vector<std::string> YamlView::keys() const {
   expect_map();
   std::vector<std::string> out;
-  for (const auto& kv : node_) out.push_back(kv.first.as<std::string>());
+  for (const auto& kv : node_) {
+    if (!kv.first.IsScalar()) YamlView(kv.first, file_, path_).fail(kComplexKey);
+    out.push_back(kv.first.Scalar());
+  }
   return out;
 }
 
 void YamlView::check_keys(std::initializer_list<const char*> allowed) const {
   expect_map();
   for (const auto& kv : node_) {
-    const std::string key = kv.first.as<std::string>();
+    if (!kv.first.IsScalar()) YamlView(kv.first, file_, path_).fail(kComplexKey);
+    const std::string key = kv.first.Scalar();
     bool ok = false;
     for (const char* a : allowed) ok = ok || key == a;
     if (!ok) {

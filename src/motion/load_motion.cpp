@@ -21,12 +21,11 @@ enum class Kind { Bvh, C3d, Amc, Asf, Unknown };
 // By content first (a C3D header has 0x50 in its second byte; a BVH starts with HIERARCHY), so a
 // misnamed file is still read correctly; then by extension.
 Kind sniff(const std::string& path) {
-  require_regular_file(path);  // a FIFO would block the open below; /dev/zero is no clip
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, std::string("cannot open: ") + std::strerror(errno));
-  char head[512] = {};
-  in.read(head, sizeof head);
-  const std::size_t n = static_cast<std::size_t>(in.gcount());
+  // read_file's checks: a FIFO, device or folder is refused without blocking, and a batch
+  // worker's clip must still resolve inside the input root (ScopedPathConfinement).
+  const std::string prefix = read_file_prefix(path, 512);
+  const char* head = prefix.data();
+  const std::size_t n = prefix.size();
   std::string_view text(head, n);
   if (n >= 3 && static_cast<unsigned char>(head[0]) == 0xEF && static_cast<unsigned char>(head[1]) == 0xBB &&
       static_cast<unsigned char>(head[2]) == 0xBF)

@@ -55,6 +55,18 @@ TEST(Cli, VersionHelpAndUsageErrors) {
   EXPECT_NE(r.out.find("--robot"), std::string::npos);
   r = run(dir, "frobnicate");
   EXPECT_EQ(r.status, 2);
+  // Issue 18: a usage error is one line (CLI11 printed a second "Run with --help" line), naming the
+  // command whose --help to read.
+  for (const char* args : {"", "frobnicate", "convert", "convert a.bvh --fps", "validate", "convert a.bvh --fps abc",
+                           "batch x", "inspect --robot"}) {
+    r = run(dir, args);
+    EXPECT_EQ(r.status, 2) << args;
+    EXPECT_EQ(lines(r.err), 1) << args << ": " << r.err;
+    EXPECT_EQ(r.err.rfind("error: ", 0), 0u) << args << ": " << r.err;
+    EXPECT_EQ(r.err.find("Run with --help"), std::string::npos) << args << ": " << r.err;
+  }
+  r = run(dir, "convert a.bvh --fps abc");
+  EXPECT_NE(r.err.find("(see 'retarget convert --help')"), std::string::npos) << r.err;
 }
 
 TEST(Cli, InspectRobotAndClip) {
@@ -395,7 +407,9 @@ TEST(Cli, HostileRatesAndOptionsExit2WithTheRangeInWords) {
   ASSERT_NE(at, std::string::npos);
   write(dir + "/dup.csv", read_file(dir + "/lift.csv"));
   write(dir + "/dup.meta.json", meta.substr(0, at) + "\"fps\": 0.001, " + meta.substr(at));
-  expect_usage("validate dup.csv " + robot, "dup.meta.json: fps: duplicate key");
+  const std::string fps_line = std::to_string(1 + std::count(meta.begin(), meta.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
+  expect_usage("validate dup.csv " + robot, "dup.meta.json:" + fps_line + ":");
+  expect_usage("validate dup.csv " + robot, "fps: duplicate key (first at line " + fps_line + ")");
   write(dir + "/slow.csv", read_file(dir + "/lift.csv"));
   std::string slow = meta;
   slow.replace(at, slow.find_first_of(",\n", at) - at, "\"fps\": 0.001");
@@ -452,6 +466,47 @@ TEST(Cli, FifosDevicesFoldersAndFileSizeLimit) {
   EXPECT_NE(err.find("cannot write: File too large"), std::string::npos) << err;
   for (const auto& e : std::filesystem::directory_iterator(dir + "/out"))
     EXPECT_EQ(e.path().filename().string().find(".tmp."), std::string::npos) << e.path();
+}
+
+// Issue 18 item 9: a batch worker checks its paths where it opens them (the batch passes the
+// hidden --input-root / --output-root): a clip or manifest profile that resolves outside the input
+// root, or an output folder that leads outside -o through a symlink, is exit 2 with one line, and
+// nothing is written outside.
+TEST(Cli, WorkerPathsAreCheckedWhereTheyAreOpened) {
+  namespace fs = std::filesystem;
+  const std::string dir = test::scratch_dir();
+  const std::string robot = "--robot '" + test::source_path("robots/humanoid25") + "'";
+  fs::create_directories(dir + "/in");
+  fs::create_directories(dir + "/elsewhere");
+  fs::create_directories(dir + "/out");
+  fs::copy_file(test::source_path("examples/clips/foot_lift.bvh"), dir + "/elsewhere/lift.bvh");
+  fs::copy_file(test::source_path("examples/clips/foot_lift.bvh"), dir + "/in/lift.bvh");
+  write(dir + "/elsewhere/profile.yaml", "name: p\nbase: auto\n");
+  fs::create_symlink(dir + "/elsewhere/lift.bvh", dir + "/in/escape.bvh");
+  fs::create_symlink(dir + "/elsewhere/profile.yaml", dir + "/in/profile.yaml");
+  fs::create_symlink(dir + "/elsewhere", dir + "/out/linked");
+  const std::string in = " --input-root '" + dir + "/in'";
+  for (const auto& [args, says] : std::vector<std::pair<std::string, std::string>>{
+           {"convert in/escape.bvh" + in, "in/escape.bvh: resolves outside the input root"},
+           {"convert in/lift.bvh --skeleton-profile in/profile.yaml --confine-profile" + in,
+            "in/profile.yaml: resolves outside the input root"},
+           {"convert in/lift.bvh -o out/linked/lift.csv --output-root '" + dir + "/out'",
+            "leads outside the output folder"}}) {
+    const CliRun r = run(dir, args + " " + robot + " --no-refine");
+    EXPECT_EQ(r.status, 2) << args << ": " << r.err;
+    EXPECT_EQ(lines(r.err), 1) << args << ": " << r.err;
+    EXPECT_NE(r.err.find(says), std::string::npos) << args << ": " << r.err;
+  }
+  int outside = 0;
+  for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir + "/elsewhere")) ++outside;
+  EXPECT_EQ(outside, 2);  // lift.bvh and profile.yaml only
+  // Without the confinement (a plain convert) the same files are read: it is the worker's rule.
+  EXPECT_EQ(run(dir, "convert in/escape.bvh -o plain.csv " + robot + " --no-refine").status, 0);
+  // Inside the roots the worker converts as usual.
+  const CliRun ok = run(dir, "convert in/lift.bvh -o out/lift.csv --output-root '" + dir + "/out'" + in + " " + robot +
+                                 " --no-refine");
+  EXPECT_EQ(ok.status, 0) << ok.err;
+  EXPECT_TRUE(fs::exists(dir + "/out/lift.csv"));
 }
 
 // Third-party G1 references (issue 5): validate runs to completion and writes a report that parses;

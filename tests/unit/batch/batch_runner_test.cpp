@@ -533,6 +533,21 @@ TEST(BatchRunner, PathsAreCheckedAgainWhenTheWorkerStarts) {
   EXPECT_TRUE(fs::is_empty(dir + "/elsewhere"));
 }
 
+// Issue 18 item 9: a symlink planted at a clip's log name inside -o is not followed (the log was
+// opened with O_TRUNC through it, truncating any file it pointed to).
+TEST(BatchRunner, ALogNameThatIsASymlinkIsNotFollowed) {
+  const std::string dir = scratch_dir();
+  write_text(dir + "/in/walk.bvh", "FAKE-WORKER: sleep 0\n");
+  write_text(dir + "/victim.txt", "keep me\n");
+  fs::create_directories(dir + "/out");
+  fs::create_symlink(dir + "/victim.txt", dir + "/out/walk.log");
+  const BatchSummary s = run_batch(quick_batch(dir + "/in", dir + "/out"));
+  ASSERT_EQ(s.clips.size(), 1u);
+  EXPECT_EQ(s.clips[0].status, ClipStatus::BadInput) << s.clips[0].error;
+  EXPECT_NE(s.clips[0].error.find("is a symlink"), std::string::npos) << s.clips[0].error;
+  EXPECT_EQ(read_text(dir + "/victim.txt"), "keep me\n");
+}
+
 TEST(BatchRunner, BadRobotOrOptionsFailUpFront) {
   const std::string dir = scratch_dir();
   write_text(dir + "/in/x.bvh", "FAKE-WORKER: sleep 0\n");

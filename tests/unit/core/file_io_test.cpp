@@ -61,5 +61,72 @@ TEST(FileIo, NonRegularFilesAreRefusedWithoutBlocking) {
   EXPECT_NO_THROW(require_regular_file(dir + "/ok.txt"));
 }
 
+// Issue 18 item 9: batch paths are checked where they are opened. A confined read of a symlink
+// that leads outside the root is refused (checked on the opened descriptor, so a link changed
+// after any earlier check is still caught); unlisted paths and links inside the root are read.
+TEST(FileIo, ConfinedReadsMustResolveInsideTheRoot) {
+  namespace fs = std::filesystem;
+  const std::string dir = test::scratch_dir();
+  fs::create_directories(dir + "/root/sub");
+  fs::create_directories(dir + "/elsewhere");
+  write_file_atomic(dir + "/elsewhere/secret.bvh", "secret\n");
+  write_file_atomic(dir + "/root/sub/clip.bvh", "clip\n");
+  fs::create_symlink(dir + "/elsewhere/secret.bvh", dir + "/root/escape.bvh");
+  fs::create_symlink("sub/clip.bvh", dir + "/root/inside.bvh");
+  fs::create_symlink(dir + "/elsewhere", dir + "/root/linked");  // a folder link on the way
+  PathConfinement c;
+  c.read_root = dir + "/root";
+  c.confined_reads = {dir + "/root/escape.bvh", dir + "/root/inside.bvh", dir + "/root/linked/secret.bvh"};
+  {
+    const ScopedPathConfinement scope(c);
+    for (const std::string& p : {dir + "/root/escape.bvh", dir + "/root/linked/secret.bvh"}) {
+      try {
+        read_file(p);
+        ADD_FAILURE() << p << " was read";
+      } catch (const InputError& e) {
+        EXPECT_EQ(e.location(), p);
+        EXPECT_NE(e.message().find("resolves outside the input root"), std::string::npos) << e.what();
+        EXPECT_NE(e.message().find("secret.bvh"), std::string::npos) << e.what();
+        EXPECT_EQ(std::string(e.what()).find("secret\n"), std::string::npos);  // the content is never echoed
+      }
+      EXPECT_THROW(read_file_prefix(p, 16), InputError);
+    }
+    EXPECT_EQ(read_file(dir + "/root/inside.bvh"), "clip\n");
+    EXPECT_EQ(read_file(dir + "/elsewhere/secret.bvh"), "secret\n");  // not a confined path
+  }
+  EXPECT_EQ(read_file(dir + "/root/escape.bvh"), "secret\n");  // the scope ended
+}
+
+// Outputs: an atomic write into a folder that is (or passes through) a symlink leading outside
+// the write root is refused before anything is created there; inside, writes work as before.
+TEST(FileIo, ConfinedWritesStayInsideTheOutputFolder) {
+  namespace fs = std::filesystem;
+  const std::string dir = test::scratch_dir();
+  fs::create_directories(dir + "/out/walks");
+  fs::create_directories(dir + "/elsewhere");
+  fs::create_symlink(dir + "/elsewhere", dir + "/out/linked");
+  fs::create_symlink(dir + "/elsewhere/planted", dir + "/out/walks/planted.csv");  // a link at the file's name
+  PathConfinement c;
+  c.write_root = dir + "/out";
+  const ScopedPathConfinement scope(c);
+  try {
+    write_file_atomic(dir + "/out/linked/walk.csv", "x");
+    FAIL() << "written through the symlink";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.location(), dir + "/out/linked/walk.csv");
+    EXPECT_NE(e.message().find("leads outside the output folder"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(fs::is_empty(dir + "/elsewhere"));
+  write_file_atomic(dir + "/out/walks/walk.csv", "y");
+  EXPECT_EQ(read_file(dir + "/out/walks/walk.csv"), "y");
+  // rename() replaces a link planted at the file's name; its target is never created or written.
+  write_file_atomic(dir + "/out/walks/planted.csv", "z");
+  EXPECT_FALSE(fs::is_symlink(dir + "/out/walks/planted.csv"));
+  EXPECT_FALSE(fs::exists(dir + "/elsewhere/planted"));
+  int entries = 0;
+  for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir + "/out/walks")) ++entries;
+  EXPECT_EQ(entries, 2);  // no temporaries left
+}
+
 }  // namespace
 }  // namespace rt

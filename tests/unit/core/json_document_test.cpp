@@ -47,13 +47,18 @@ TEST(JsonDocument, RejectsNonObjectsUnrepresentableNumbersAndDeepNesting) {
 }
 
 // Issue 18: nlohmann keeps the last of two equal keys silently; a second "fps" must not override
-// the first unseen. The error names the key's path.
+// the first unseen. The error is located at the second key (line:column) and names the key's path
+// and the first one's line.
 TEST(JsonDocument, RejectsDuplicateKeysByPath) {
-  EXPECT_EQ(error_of("{\"fps\": 30, \"fps\": 0.001}"), "d.json: fps: duplicate key");
-  EXPECT_EQ(error_of("{\"a\": {\"b\": 1, \"c\": {\"d\": 1, \"d\": 2}}}"), "d.json: a.c.d: duplicate key");
+  EXPECT_EQ(error_of("{\"fps\": 30, \"fps\": 0.001}"), "d.json:1:13: fps: duplicate key (first at line 1)");
+  EXPECT_EQ(error_of("{\"a\": {\"b\": 1, \"c\": {\"d\": 1, \"d\": 2}}}"),
+            "d.json:1:30: a.c.d: duplicate key (first at line 1)");
+  // Across lines, with keys inside strings, escaped quotes and values that look like keys.
+  EXPECT_EQ(error_of("{\n  \"note\": \"\\\"fps\\\": 1\",\n  \"fps\": 30,\n  \"x\": [\"fps\", {\"fps\": 1}],\n  \"fps\": 2\n}"),
+            "d.json:5:3: fps: duplicate key (first at line 3)");
   // The same key in sibling objects, in array elements and at other levels is fine.
   EXPECT_EQ(error_of("{\"a\": {\"x\": 1}, \"b\": {\"x\": 1}, \"x\": [{\"x\": 1}, {\"x\": 2}]}"), "");
-  EXPECT_EQ(error_of("{\"l\": [{\"k\": 1, \"k\": 2}]}"), "d.json: l.k: duplicate key");
+  EXPECT_EQ(error_of("{\"l\": [{\"k\": 1},\n {\"k\": 1, \"k\": 2}]}"), "d.json:2:11: l.k: duplicate key (first at line 2)");
 }
 
 TEST(JsonDocument, DepthCountsContainersAndStopsAtTheLimit) {

@@ -58,5 +58,21 @@ TEST(YamlView, RejectsNonFiniteNumbers) {
   EXPECT_THROW(doc.at("b").as_double(), InputError);
 }
 
+// Issue 18 (found by the fuzz driver on robot.yaml): a sequence or map used as a key made
+// yaml-cpp throw its own bad-conversion exception (exit 3); it is a located InputError.
+TEST(YamlView, ComplexKeysAreLocatedErrors) {
+  for (const char* text : {"name: x\n[a, b]: 1\n", "name: x\n? {a: 1}\n: 2\n"}) {
+    const auto doc = YamlView::load_string(text, "k.yaml");
+    try {
+      doc.check_keys({"name"});
+      ADD_FAILURE() << "no error for " << text;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.location().rfind("k.yaml:2", 0), 0u) << e.what();
+      EXPECT_NE(e.message().find("expected a plain key"), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(doc.keys(), InputError);
+  }
+}
+
 }  // namespace
 }  // namespace rt

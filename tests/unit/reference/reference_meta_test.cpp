@@ -87,7 +87,7 @@ TEST(ReferenceMeta, BadMetaIsOneLineErrorWithKeyLocation) {
   test::expect_input_error(parse(R"({"fps":-3,"joint_names":["a"]})"), {"m.meta.json [fps]", "not between 1 and 10000 Hz"});
   // Issue 18 item 2: 0.001 fps made validate run for minutes; a second "fps" overrode the first.
   test::expect_input_error(parse(R"({"fps":0.001,"joint_names":["a"]})"), {"m.meta.json [fps]", "0.001 Hz, not between"});
-  test::expect_input_error(parse(R"({"fps":30,"joint_names":["a"],"fps":0.001})"), {"m.meta.json", "fps: duplicate key"});
+  test::expect_input_error(parse(R"({"fps":30,"joint_names":["a"],"fps":0.001})"), {"m.meta.json:1:31", "fps: duplicate key (first at line 1)"});
   test::expect_input_error(parse(R"({"fps":"30","joint_names":["a"]})"), {"[fps]", "expected a number"});
   test::expect_input_error(parse(R"({"fps":30,"joint_names":["a","a"]})"), {"[joint_names[1]]", "duplicate"});
   test::expect_input_error(parse(R"({"fps":30,"joint_names":["a"],"format_version":2})"), {"[format_version]", "newer"});
