@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <random>
 
 #include "retarget/model/kinematics.hpp"
@@ -119,6 +120,32 @@ TEST(TrackingController, StandingNeedsSupportForcesEqualToWeight) {
   const double fz = c.f_contact[2] + c.f_contact[8];
   EXPECT_NEAR(fz, weight, 0.05 * weight);
   EXPECT_EQ(c.saturated_joints, 0);
+}
+
+// The walking controller's force ramp: a cap on one foot's normal force moves the load to the other
+// foot (the QP row f_z <= f_max), and without a cap the solution is the uncapped one.
+TEST(TrackingController, NormalForceCapMovesTheLoadToTheOtherFoot) {
+  Fixture fx;
+  const TrackingController tc(*fx.model, TrackingOptions{});
+  const VecX q = fx.model->standing_q();
+  const VecX v = VecX::Zero(fx.model->nv());
+  TrackingReference ref = fx.reference(q, true, true);
+  update_kinematics(*fx.model, fx.data, q);
+  for (int foot = 0; foot < 2; ++foot) {
+    const Sole& s = fx.model->soles()[static_cast<std::size_t>(foot)];
+    Iso3 X = link_pose(*fx.model, fx.data, s.link);
+    X.translation() = X * s.p_L_center;
+    ref.X_W_sole[static_cast<std::size_t>(foot)] = X;
+  }
+  ref.desired_cop_W = com_position(*fx.model, fx.data).head<2>();
+  const TrackingCommand free = tc.compute(fx.data, q, v, ref);
+  const double weight = fx.model->total_mass_kg() * 9.81;
+  ASSERT_GT(free.f_contact[8], 0.3 * weight);  // the right foot carries a good part without a cap
+  ref.max_normal_force_n = {std::numeric_limits<double>::infinity(), 0.1 * weight};
+  const TrackingCommand capped = tc.compute(fx.data, q, v, ref);
+  EXPECT_LE(capped.f_contact[8], 0.1 * weight + 1e-6);
+  EXPECT_NEAR(capped.f_contact[2] + capped.f_contact[8], weight, 0.05 * weight);
+  EXPECT_FALSE(capped.closed_form_feasible);
 }
 
 }  // namespace
