@@ -50,7 +50,7 @@ Vec2 grid_at(const Eigen::Matrix2Xd& m, double period, double t) {
   return (1 - (s - i)) * m.col(i) + (s - i) * m.col(j);
 }
 
-Vec2 clamp_norm(const Vec2& v, double box) { return v.cwiseMax(Vec2::Constant(-box)).cwiseMin(Vec2::Constant(box)); }
+Vec2 clamp_to_box(const Vec2& v, double box) { return v.cwiseMax(Vec2::Constant(-box)).cwiseMin(Vec2::Constant(box)); }
 
 }  // namespace
 
@@ -212,7 +212,7 @@ void WalkingController::control(const ControlInput& in, ControlOutput& out) {
     if (!(w.foothold_adjustment && !settling && clamped && e.norm() > w.foothold_threshold_m && remaining > 0.05)) continue;
     // Where the error would be at touchdown with the COP held at the support's edge: it grows with ω
     // (looked ahead at most 0.5 s; clamped to the box per axis).
-    const Vec2 target = clamp_norm(e * std::exp(omega * std::min(remaining, 0.5)), w.foothold_box_m);
+    const Vec2 target = clamp_to_box(e * std::exp(omega * std::min(remaining, 0.5)), w.foothold_box_m);
     // Moved towards the target at a bounded rate, so the swing foot's reference stays smooth.
     const double max_step = 0.5 * o.control_period_s;  // 0.5 m/s
     Vec2 step = target - foothold_offset_[fi];
