@@ -251,29 +251,20 @@ void ConfigParser::parse_controller(const YamlView& controller) {
   ControllerConfig& k = c_.controller;
   k.kp = number_or(controller, "kp", k.kp, 0, 1e6, "kp");
   k.kd = number_or(controller, "kd", k.kd, 0, 1e6, "kd");
+  // A map of {kp, kd} entries, each defaulting to the section's kp/kd.
+  auto gains_map = [&](const YamlView& map, std::map<std::string, JointGains>& out) {
+    mark(map).expect_map();
+    for (const auto& name : map.keys()) {
+      const YamlView g = mark(map.at(name));
+      g.check_keys({"kp", "kd"});
+      out[name] = JointGains{number_or(g, "kp", k.kp, 0, 1e6, "kp"), number_or(g, "kd", k.kd, 0, 1e6, "kd")};
+    }
+  };
   if (auto gg = controller.find("group_gains")) {
-    mark(*gg).expect_map();
-    gg->check_keys({"legs", "torso", "arms"});
-    for (const auto& name : gg->keys()) {
-      const YamlView g = mark(gg->at(name));
-      g.check_keys({"kp", "kd"});
-      JointGains gains{k.kp, k.kd};
-      gains.kp = number_or(g, "kp", gains.kp, 0, 1e6, "kp");
-      gains.kd = number_or(g, "kd", gains.kd, 0, 1e6, "kd");
-      k.group_gains[name] = gains;
-    }
+    mark(*gg).check_keys({"legs", "torso", "arms"});
+    gains_map(*gg, k.group_gains);
   }
-  if (auto jg = controller.find("joint_gains")) {
-    mark(*jg).expect_map();
-    for (const auto& name : jg->keys()) {
-      const YamlView g = mark(jg->at(name));
-      g.check_keys({"kp", "kd"});
-      JointGains gains{k.kp, k.kd};
-      gains.kp = number_or(g, "kp", gains.kp, 0, 1e6, "kp");
-      gains.kd = number_or(g, "kd", gains.kd, 0, 1e6, "kd");
-      k.joint_gains[name] = gains;
-    }
-  }
+  if (auto jg = controller.find("joint_gains")) gains_map(*jg, k.joint_gains);
 }
 
 void ConfigParser::parse_simulation(const YamlView& simulation) {

@@ -240,7 +240,6 @@ void WalkingController::control(const ControlInput& in, ControlOutput& out) {
   }
   for (int f = 0; f < 2; ++f) {
     const auto fi = static_cast<std::size_t>(f);
-    const Sole& sole = model.soles()[fi];
     tr.max_normal_force_n[fi] = holding ? kInf : max_normal_force(f, t_ref);
     // Early touchdown: a swing foot that lands (carries load) shortly before its reference touchdown
     // is a stance foot from then on, held where it landed, instead of being dragged on along its
@@ -255,10 +254,7 @@ void WalkingController::control(const ControlInput& in, ControlOutput& out) {
     }
     if (tr.contact[fi]) {
       if (loaded[fi]) {
-        const Iso3 X_link = link_pose(model, data, sole.link);
-        Iso3 X = Iso3::Identity();
-        X.translation() = X_link * sole.p_L_center;
-        X.linear() = X_link.linear() * R_L_sole_[fi];
+        const Iso3 X = sole_frame_W(model, data, f, R_L_sole_[fi]);
         tr.X_W_sole[fi] = X;
         if (!stance_pose_[fi]) stance_pose_[fi] = flat_on_floor(X);
       } else {

@@ -27,6 +27,18 @@ struct Fixture {
     return {q, v};
   }
 
+  // Sole targets where the soles are at q (the feet held), and the desired COP under the COM.
+  void hold_feet(TrackingReference& ref, const VecX& q) {
+    update_kinematics(*model, data, q);
+    for (int foot = 0; foot < 2; ++foot) {
+      const Sole& s = model->soles()[static_cast<std::size_t>(foot)];
+      Iso3 X = link_pose(*model, data, s.link);
+      X.translation() = X * s.p_L_center;
+      ref.X_W_sole[static_cast<std::size_t>(foot)] = X;
+    }
+    ref.desired_cop_W = com_position(*model, data).head<2>();
+  }
+
   TrackingReference reference(const VecX& q, bool left, bool right) {
     TrackingReference ref;
     ref.q = model->standing_q();
@@ -106,15 +118,7 @@ TEST(TrackingController, StandingNeedsSupportForcesEqualToWeight) {
   const VecX q = fx.model->standing_q();
   const VecX v = VecX::Zero(fx.model->nv());
   TrackingReference ref = fx.reference(q, true, true);
-  ref.X_W_sole = {};  // hold the feet where they are
-  update_kinematics(*fx.model, fx.data, q);
-  for (int foot = 0; foot < 2; ++foot) {
-    const Sole& s = fx.model->soles()[static_cast<std::size_t>(foot)];
-    Iso3 X = link_pose(*fx.model, fx.data, s.link);
-    X.translation() = X * s.p_L_center;
-    ref.X_W_sole[static_cast<std::size_t>(foot)] = X;
-  }
-  ref.desired_cop_W = com_position(*fx.model, fx.data).head<2>();
+  fx.hold_feet(ref, q);
   const TrackingCommand c = tc.compute(fx.data, q, v, ref);
   const double weight = fx.model->total_mass_kg() * 9.81;
   const double fz = c.f_contact[2] + c.f_contact[8];
@@ -130,14 +134,7 @@ TEST(TrackingController, NormalForceCapMovesTheLoadToTheOtherFoot) {
   const VecX q = fx.model->standing_q();
   const VecX v = VecX::Zero(fx.model->nv());
   TrackingReference ref = fx.reference(q, true, true);
-  update_kinematics(*fx.model, fx.data, q);
-  for (int foot = 0; foot < 2; ++foot) {
-    const Sole& s = fx.model->soles()[static_cast<std::size_t>(foot)];
-    Iso3 X = link_pose(*fx.model, fx.data, s.link);
-    X.translation() = X * s.p_L_center;
-    ref.X_W_sole[static_cast<std::size_t>(foot)] = X;
-  }
-  ref.desired_cop_W = com_position(*fx.model, fx.data).head<2>();
+  fx.hold_feet(ref, q);
   const TrackingCommand free = tc.compute(fx.data, q, v, ref);
   const double weight = fx.model->total_mass_kg() * 9.81;
   ASSERT_GT(free.f_contact[8], 0.3 * weight);  // the right foot carries a good part without a cap
