@@ -13,18 +13,21 @@
 ///     this COP gives, c̈ = ω² (c − p_des + Δp), is the trunk's horizontal feed-forward. The closed
 ///     loop is linear (a first-order DCM error) wherever the clamp is inactive, so the online planner
 ///     can preview it.
-///  3. Online re-planning (receding horizon, `replan_*`): when the DCM error, decaying under that
-///     loop, would need a COP outside the predicted support within the window, the COM plan over the
-///     window is re-solved as a small soft-constrained QP from the measured state (COP inside each
-///     window sample's support polygon, COM jerk penalised, pulled back to the plan at its end). On a
-///     feasible reference the error stays small and the planner does not fire.
-///  4. Foothold adjustment: when the DCM error exceeds `foothold_threshold_m` during a swing, the
-///     touchdown of the swinging foot moves by the error predicted at touchdown, clamped to a box of
-///     ±`foothold_box_m`; the swing trajectory blends the change in over the rest of the swing and
-///     the trunk mapping at that touchdown carries it into the reference.
+///  3. Online re-planning (receding horizon, `replan_*`): when the DCM error exceeds
+///     `replan_error_m` and, decaying under that loop, would need a COP outside the predicted
+///     support within the window, the COM plan over the window (on the plan's grid) is re-solved as
+///     a small soft-constrained QP from the measured state (COP inside each window sample's support
+///     polygon, COM jerk penalised, pinned back to the plan at its end). It is kept only when it
+///     predicts a smaller violation. On a feasible reference tracked well it does not fire.
+///  4. Foothold adjustment: while the commanded COP is clamped and the DCM error exceeds
+///     `foothold_threshold_m`, the swinging foot's touchdown is moved towards the error predicted
+///     at touchdown (growing with ω, looked ahead at most 0.5 s), within ±`foothold_box_m` per
+///     axis and at most 0.5 m/s, so the swing trajectory changes smoothly; the trunk mapping at that
+///     touchdown carries the change into the reference.
 ///  5. Contact transitions: the normal force a foot may be commanded ramps from 0 to the full weight
 ///     over `force_ramp_s` after a reference touchdown and back to 0 over `force_ramp_s` before a
-///     lift-off; swing feet are tracked in task space by the tracking controller (eq. 4–5).
+///     lift-off; a swing foot that lands within `early_touchdown_s` of its touchdown becomes a
+///     stance foot; swing feet are tracked in task space by the tracking controller (eq. 4–5).
 ///  6. Tracking controller (eq. 2–19, with contact-wrench limits) for the torques.
 
 #include <array>
