@@ -317,12 +317,41 @@ void TrackingController::solve(const TrackingProblem& p, TrackingCommand& c, Tra
   const VecX& limit = model_->effort_limits();
   c.tau = c.tau_raw;
   c.saturated_joints = 0;
-  for (int i = 0; i < nu; ++i) {
-    if (limit[i] > 0 && std::abs(c.tau[i]) > limit[i]) {
-      c.tau[i] = std::copysign(limit[i], c.tau[i]);
-      ++c.saturated_joints;
-    }
+  for (int i = 0; i < nu; ++i) c.saturated_joints += limit[i] > 0 && std::abs(c.tau_raw[i]) > limit[i];
+  c.torque_limited = false;
+  if (options_.torque_limits && c.saturated_joints > 0 && solve_torque_limited(p, ws)) {
+    c.torque_limited = true;
+    c.tau = ws.y_full.head(nu);
+    c.f_contact = ws.y_full.tail(nf);
+    c.qdd = p.a0;
+    c.qdd.noalias() += p.G * ws.y_full;
   }
+  for (int i = 0; i < nu; ++i)
+    if (limit[i] > 0 && std::abs(c.tau[i]) > limit[i]) c.tau[i] = std::copysign(limit[i], c.tau[i]);
+}
+
+bool TrackingController::solve_torque_limited(const TrackingProblem& p, TrackingWorkspace& ws) const {
+  const int nu = p.nu, nf = p.nf, ny = nu + nf;
+  const VecX& limit = model_->effort_limits();
+  int limited = 0;
+  for (int i = 0; i < nu; ++i) limited += limit[i] > 0;
+  const auto nc = static_cast<int>(p.C_contact.rows());
+  ws.C_full.setZero(nc + 2 * limited, ny);
+  ws.d_full.resize(nc + 2 * limited);
+  if (nc > 0) {
+    ws.C_full.topRightCorner(nc, nf) = p.C_contact;
+    ws.d_full.head(nc) = p.d_contact;
+  }
+  for (int i = 0, row = nc; i < nu; ++i) {
+    if (!(limit[i] > 0)) continue;
+    ws.C_full(row, i) = 1;  // τ_i ≥ −limit
+    ws.d_full[row++] = -limit[i];
+    ws.C_full(row, i) = -1;  // −τ_i ≥ −limit
+    ws.d_full[row++] = -limit[i];
+  }
+  // τ = 0 with the wrenches inside their cones is feasible, so only an iteration limit or a
+  // numerical failure ends here without a solution; the caller then clips the unconstrained one.
+  return ws.qp_full.solve(p.A, p.b, ws.C_full, ws.d_full, ws.y_full) == QpStatus::Solved;
 }
 
 TrackingCommand TrackingController::solve(const TrackingProblem& p) const {

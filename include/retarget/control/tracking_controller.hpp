@@ -76,6 +76,12 @@ struct TrackingOptions {
   double pinv_damping = 1e-6;  ///< Tikhonov damping of J_c⁺ (legs are assumed non-singular)
   TrackingWeights weights;
   ContactConstraintOptions contact;
+  /// When the solution asks a joint for more than its effort limit, solve eq. (18) again over
+  /// (τ, f) with |τ_i| ≤ effort limit as constraints (beside the contact limits) instead of only
+  /// clipping: clipping one torque of a coupled chain (a G1's 35 N m waist under a swinging leg)
+  /// silently changes every acceleration the cost was balancing, whereas the constrained optimum
+  /// re-distributes the effort to the joints and contact wrenches that still have room.
+  bool torque_limits = true;
 };
 
 /// Desired state at one control instant (the reference after kinematic mapping).
@@ -121,7 +127,7 @@ struct TrackingProblem {
 
 struct TrackingCommand {
   VecX tau;        ///< movable-joint torques after clamping to effort limits (model order)
-  VecX tau_raw;    ///< before clamping
+  VecX tau_raw;    ///< the unconstrained demand (what the motion asks for; saturation is judged on it)
   VecX f_contact;  ///< contact wrenches (nf), per contact foot [force; moment] at the sole centre
   VecX qdd;        ///< q̈ implied by the unclamped solution
   int saturated_joints = 0;
@@ -130,6 +136,9 @@ struct TrackingCommand {
   bool closed_form_feasible = true;
   int qp_iterations = 0;
   QpStatus qp_status = QpStatus::Solved;
+  /// The torque-limited problem over (τ, f) was solved (`TrackingOptions::torque_limits`) and its
+  /// solution applied; false when no joint exceeded its limit or that solve failed (then clipped).
+  bool torque_limited = false;
 };
 
 /// Scratch memory of build() and solve(), owned by the caller (one per control loop) so that the
@@ -143,6 +152,9 @@ struct TrackingWorkspace {
   MatX X, A_red;
   VecX z_tau, b_red;
   DenseQp qp;
+  MatX C_full;        ///< contact and torque limits on y = (τ, f)
+  VecX d_full, y_full;
+  DenseQp qp_full;
 };
 
 class TrackingController {
@@ -156,8 +168,9 @@ class TrackingController {
   /// update_dynamics(q, v) on it.
   void build(RobotData& data, const VecXCRef& q, const VecXCRef& v, const TrackingReference& ref,
              TrackingProblem& problem, TrackingWorkspace& workspace, bool data_is_current = false) const;
-  /// Eq. (19) y = −A⁻¹ b — subject to the contact limits when they are enabled — then clamps
-  /// torques. The torques are eliminated first: with A = [A_ττ A_τf; A_fτ A_ff], the wrenches
+  /// Eq. (19) y = −A⁻¹ b — subject to the contact limits when they are enabled — then, where a
+  /// torque exceeds its effort limit, the same problem subject to the torque limits too
+  /// (`TrackingOptions::torque_limits`), then clamps torques. The torques are eliminated first: with A = [A_ττ A_τf; A_fτ A_ff], the wrenches
   /// minimise the Schur complement ½ fᵀ(A_ff − A_fτ A_ττ⁻¹ A_τf) f + ..., and τ = −A_ττ⁻¹(b_τ + A_τf f).
   void solve(const TrackingProblem& problem, TrackingCommand& command, TrackingWorkspace& workspace) const;
 
@@ -179,6 +192,9 @@ class TrackingController {
   void foot_weights(const std::array<bool, 2>& contact, VecX& w_c) const;
   /// Rows of the contact limits for the problem's contact feet.
   void contact_limits(TrackingProblem& p) const;
+  /// Eq. (18) over y = (τ, f) subject to the contact and torque limits, into workspace.y_full;
+  /// false when the QP did not reach its minimum.
+  bool solve_torque_limited(const TrackingProblem& p, TrackingWorkspace& ws) const;
 
   const RobotModel* model_;
   TrackingOptions options_;

@@ -145,5 +145,48 @@ TEST(TrackingController, NormalForceCapMovesTheLoadToTheOtherFoot) {
   EXPECT_FALSE(capped.closed_form_feasible);
 }
 
+// Effort limits inside the optimisation: when the closed form asks a joint for more than its
+// limit, the torque-limited problem over (τ, f) respects every limit, costs no more than clipping
+// that demand would, and keeps the equation of motion; the demand is still reported as saturation.
+TEST(TrackingController, TorqueLimitsAreConstraintsNotClipping) {
+  Fixture fx;
+  const VecX q = fx.model->standing_q();
+  const VecX v = VecX::Zero(fx.model->nv());
+  TrackingReference ref = fx.reference(q, true, true);
+  fx.hold_feet(ref, q);
+  // A violent acceleration asked of every joint: far beyond what the effort limits allow.
+  ref.a.tail(fx.model->nu()).setConstant(400.0);
+  TrackingOptions clip_only;
+  clip_only.torque_limits = false;
+  const TrackingController clipping(*fx.model, clip_only);
+  const TrackingController limited(*fx.model, TrackingOptions{});
+  const TrackingProblem p = limited.build(fx.data, q, v, ref);
+  const TrackingCommand a = clipping.solve(p), b = limited.solve(p);
+  ASSERT_GT(a.saturated_joints, 0);
+  EXPECT_FALSE(a.torque_limited);
+  ASSERT_TRUE(b.torque_limited);
+  EXPECT_EQ(b.saturated_joints, a.saturated_joints);  // judged on the same unconstrained demand
+  const VecX& limit = fx.model->effort_limits();
+  for (int i = 0; i < p.nu; ++i) {
+    if (limit[i] > 0) EXPECT_LE(std::abs(b.tau[i]), limit[i] * (1 + 1e-9) + 1e-9) << "joint " << i;
+  }
+  auto y_of = [&](const TrackingCommand& c) {
+    VecX y(p.nu + p.nf);
+    y << c.tau, c.f_contact;
+    return y;
+  };
+  // Clipping is one feasible point of the torque-limited problem; its optimum is no worse.
+  EXPECT_LT(total(limited.cost_terms(p, y_of(b))), total(limited.cost_terms(p, y_of(a))));
+  VecX rhs = p.J_contact.transpose() * b.f_contact;
+  rhs.tail(p.nu) += b.tau;
+  EXPECT_LT((p.M * b.qdd + p.bias - rhs).norm(), 1e-8 * std::max(1.0, rhs.norm()));
+  // Nothing saturated: identical to the closed form.
+  ref.a.setZero();
+  const TrackingProblem calm = limited.build(fx.data, q, v, ref);
+  const TrackingCommand c = limited.solve(calm), d = clipping.solve(calm);
+  EXPECT_FALSE(c.torque_limited);
+  EXPECT_LT((c.tau - d.tau).norm(), 1e-12);
+}
+
 }  // namespace
 }  // namespace rt
