@@ -1,6 +1,7 @@
 #include "retarget/jobs/validate_job.hpp"
 
 #include <cmath>
+#include <limits>
 
 #include "retarget/core/error.hpp"
 #include "retarget/model/robot_model.hpp"
@@ -21,6 +22,18 @@ Reference read_reference_for(const RobotModel& model, const std::string& path, d
   return read_reference(path, o);
 }
 
+namespace {
+
+// A schedule the check derived itself is not the reference's claim: its stance feet are not held
+// to the reference's floor (the labeller gives a run with no foot down to the lower foot).
+DynamicsCheckOptions check_options(const ValidateRequest& request, bool contacts_labelled) {
+  DynamicsCheckOptions o = request.check;
+  if (contacts_labelled) o.stance_height_tolerance_m = std::numeric_limits<double>::infinity();
+  return o;
+}
+
+}  // namespace
+
 ValidateResult validate_reference(Reference reference, const RobotModel& model, const ValidateRequest& request) {
   ValidateResult r;
   const std::string where = request.reference_path.empty() ? std::string("reference") : request.reference_path;
@@ -33,7 +46,7 @@ ValidateResult validate_reference(Reference reference, const RobotModel& model, 
     r.contacts_labelled = true;
     r.diagnostics.note(where, "no contact schedule in the file: contacts labelled from the reference's foot heights and speeds");
   }
-  r.check = run_dynamics_check(model, reference, request.check);
+  r.check = run_dynamics_check(model, reference, check_options(request, r.contacts_labelled));
   r.reference = std::move(reference);
   return r;
 }
@@ -47,10 +60,12 @@ SpeedSearchResult find_feasible_speed(const Reference& reference, const RobotMod
   if (!(o.min_time_scale > 0 && o.min_time_scale <= 1 && o.max_time_scale >= 1))
     throw InputError("--find-speed", "the time-scale bounds must satisfy 0 < min <= 1 <= max");
   Reference labelled = reference;
-  if (!labelled.has_contacts()) labelled = validate_reference(reference, model, request).reference;  // label once
+  const bool contacts_labelled = !labelled.has_contacts();
+  if (contacts_labelled) labelled = validate_reference(reference, model, request).reference;  // label once
+  const DynamicsCheckOptions check = check_options(request, contacts_labelled);
   SpeedSearchResult r;
   auto passes = [&](double S) {
-    const bool ok = run_dynamics_check(model, retime_reference(labelled, S), request.check).passed;
+    const bool ok = run_dynamics_check(model, retime_reference(labelled, S), check).passed;
     r.trials.emplace_back(S, ok);
     return ok;
   };

@@ -247,7 +247,7 @@ void ConfigParser::parse_standing(const YamlView& standing) {
 }
 
 void ConfigParser::parse_controller(const YamlView& controller) {
-  mark(controller).check_keys({"kp", "kd", "group_gains", "joint_gains"});
+  mark(controller).check_keys({"kp", "kd", "group_gains", "joint_gains", "foot_gains"});
   ControllerConfig& k = c_.controller;
   k.kp = number_or(controller, "kp", k.kp, 0, 1e6, "kp");
   k.kd = number_or(controller, "kd", k.kd, 0, 1e6, "kd");
@@ -265,6 +265,12 @@ void ConfigParser::parse_controller(const YamlView& controller) {
     gains_map(*gg, k.group_gains);
   }
   if (auto jg = controller.find("joint_gains")) gains_map(*jg, k.joint_gains);
+  if (auto fg = controller.find("foot_gains")) {
+    const YamlView g = mark(*fg);
+    g.check_keys({"kp", "kd"});
+    k.foot_gains.kp = number(g.at("kp"), 1e-3, 1e6, "foot_gains kp");
+    k.foot_gains.kd = number_or(g, "kd", 2 * std::sqrt(k.foot_gains.kp), 0, 1e6, "foot_gains kd");
+  }
 }
 
 void ConfigParser::parse_simulation(const YamlView& simulation) {

@@ -33,7 +33,8 @@ constexpr std::size_t kMaxListedReplanBursts = 6;
 const ViolationKind kAllKinds[] = {ViolationKind::Fall,          ViolationKind::CopNearEdge,
                                    ViolationKind::ContactNotAchieved, ViolationKind::LiftOffNotAchieved,
                                    ViolationKind::FootSlip,      ViolationKind::TorqueSaturation,
-                                   ViolationKind::JointLimit,    ViolationKind::HeavyCorrection};
+                                   ViolationKind::JointLimit,    ViolationKind::HeavyCorrection,
+                                   ViolationKind::StanceOffFloor};
 
 // ---- writing -----------------------------------------------------------------------------------
 
@@ -268,9 +269,10 @@ ReportInfo make_report_info(const std::string& robot, const std::string& referen
       o.controller == CheckControllerKind::Paper
           ? format("paper controller, re-planning N %d x %g ms, h_max %g, w %g", o.replan.horizon, o.replan.period_s * 1e3,
                    o.replan.h_max, o.replan.w)
-          : format("walking controller, DCM gain %g /s, plan margin %g mm, COM-shift bound %g mm, foothold box %g mm",
+          : format("walking controller, DCM gain %g /s, plan margin %g mm, COM-shift bound %g mm, foothold box %g mm, "
+                   "foot kp %g, kd %g",
                    o.walking.dcm_gain, o.walking.plan.margin_m * 1e3, o.walking.plan.max_shift_m * 1e3,
-                   o.walking.foothold_box_m * 1e3);
+                   o.walking.foothold_box_m * 1e3, o.walking.foot_kp, o.walking.foot_kd);
   info.options_summary =
       format("%s; control %g ms, kp %g, kd %g; COP margin %g mm, contact tolerance %g s, slip %g m/s, settle %g s%s",
              controller.c_str(), o.control_period_s * 1e3, o.tracking.kp, o.tracking.kd, o.cop_margin_m * 1e3,

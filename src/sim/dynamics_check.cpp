@@ -12,6 +12,7 @@
 #include "retarget/sim/lead_in.hpp"
 #include "retarget/sim/paper_controller.hpp"
 #include "retarget/sim/plant.hpp"
+#include "retarget/sim/reference_consistency.hpp"
 #include "retarget/sim/reference_signal.hpp"
 #include "retarget/sim/violation_monitor.hpp"
 #include "retarget/sim/walking_controller.hpp"
@@ -27,6 +28,10 @@ DynamicsCheckOptions default_check_options(const RobotModel& model) {
   o.tracking.root_kd = c.kd;
   o.tracking.foot_kp = c.kp;
   o.tracking.foot_kd = c.kd;
+  if (c.foot_gains.kp > 0) {
+    o.walking.foot_kp = c.foot_gains.kp;
+    o.walking.foot_kd = c.foot_gains.kd;
+  }
   if (!c.joint_gains.empty() || !c.group_gains.empty()) {
     o.tracking.kp_joint = VecX::Constant(model.nu(), c.kp);
     o.tracking.kd_joint = VecX::Constant(model.nu(), c.kd);
@@ -86,6 +91,7 @@ DynamicsCheckResult run_dynamics_check(const RobotModel& model, const Reference&
   else
     controller = std::make_unique<WalkingController>(model, signal, o);
   ViolationMonitor monitor(model, o);
+  for (Violation& v : stance_off_floor(signal, lead_s, o.stance_height_tolerance_m)) monitor.violations().push_back(std::move(v));
   if (o.controller == CheckControllerKind::Walking) {
     const BalancePlan& plan = static_cast<const WalkingController&>(*controller).plan();
     res.walking.lead_in_s = lead_s;

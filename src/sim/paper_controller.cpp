@@ -69,7 +69,13 @@ PaperController::PaperController(const RobotModel& model, const ReferenceSignal&
                  bo.control_period_s = substeps * dt_sim_;
                  return bo;
                }()),
-      tracking_(model, o.tracking),
+      tracking_(model,
+                [&] {
+                  // The paper's eq. (19) clips saturated torques; the torque-limited solve is ours.
+                  TrackingOptions t = o.tracking;
+                  t.torque_limits = false;
+                  return t;
+                }()),
       planner_(balance_.closed_loop_model(o.replan.period_s), o.replan),
       R_L_sole_(sole_frames(model)) {
   N_ = o.replan.horizon;

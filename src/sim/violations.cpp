@@ -14,6 +14,7 @@ const char* violation_name(ViolationKind kind) {
     case ViolationKind::TorqueSaturation: return "torque-saturation";
     case ViolationKind::JointLimit: return "joint-limit";
     case ViolationKind::HeavyCorrection: return "heavy-correction";
+    case ViolationKind::StanceOffFloor: return "stance-off-floor";
   }
   return "?";
 }
@@ -21,7 +22,8 @@ const char* violation_name(ViolationKind kind) {
 bool violation_kind_from_name(const std::string& name, ViolationKind& kind) {
   for (ViolationKind k : {ViolationKind::Fall, ViolationKind::CopNearEdge, ViolationKind::ContactNotAchieved,
                           ViolationKind::LiftOffNotAchieved, ViolationKind::FootSlip, ViolationKind::TorqueSaturation,
-                          ViolationKind::JointLimit, ViolationKind::HeavyCorrection})
+                          ViolationKind::JointLimit, ViolationKind::HeavyCorrection,
+                          ViolationKind::StanceOffFloor})
     if (name == violation_name(k)) {
       kind = k;
       return true;
@@ -31,7 +33,8 @@ bool violation_kind_from_name(const std::string& name, ViolationKind& kind) {
 
 bool violation_fails_check(ViolationKind kind) {
   return kind == ViolationKind::Fall || kind == ViolationKind::ContactNotAchieved ||
-         kind == ViolationKind::LiftOffNotAchieved || kind == ViolationKind::HeavyCorrection;
+         kind == ViolationKind::LiftOffNotAchieved || kind == ViolationKind::HeavyCorrection ||
+         kind == ViolationKind::StanceOffFloor;
 }
 
 ViolationTracker::ViolationTracker(ViolationKind kind, std::string unit, double min_duration_s)

@@ -50,12 +50,19 @@ Vec2 grid_at(const Eigen::Matrix2Xd& m, double period, double t) {
   return (1 - (s - i)) * m.col(i) + (s - i) * m.col(j);
 }
 
+TrackingOptions walking_tracking_options(const DynamicsCheckOptions& o) {
+  TrackingOptions t = o.tracking;
+  t.foot_kp = o.walking.foot_kp;
+  t.foot_kd = o.walking.foot_kd;
+  return t;
+}
+
 Vec2 clamp_to_box(const Vec2& v, double box) { return v.cwiseMax(Vec2::Constant(-box)).cwiseMin(Vec2::Constant(box)); }
 
 }  // namespace
 
 WalkingController::WalkingController(const RobotModel& model, const ReferenceSignal& signal, const DynamicsCheckOptions& o)
-    : model_(&model), signal_(&signal), o_(&o), w_(&o.walking), tracking_(model, o.tracking), R_L_sole_(sole_frames(model)) {
+    : model_(&model), signal_(&signal), o_(&o), w_(&o.walking), tracking_(model, walking_tracking_options(o)), R_L_sole_(sole_frames(model)) {
   RobotData data(model);
   BalancePlanOptions po = w_->plan;
   po.lead_in_s = o.settle_s;  // the settle phase is the plan's standing lead-in

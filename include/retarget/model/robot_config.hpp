@@ -95,6 +95,9 @@ struct ControllerConfig {
   /// landmark but not the head/chest), "torso" (the rest). Override kp/kd for that group.
   std::map<std::string, JointGains> group_gains;
   std::map<std::string, JointGains> joint_gains;  ///< per-joint overrides (above the groups)
+  /// Task-space gains of the feet (the tracking controller's r̈̂, eq. 4) under the walking
+  /// controller; kp = 0 keeps its default (WalkingControllerOptions::foot_kp/foot_kd).
+  JointGains foot_gains;
 };
 
 struct SimulationConfig {

@@ -76,6 +76,10 @@ struct DynamicsCheckOptions {
   /// may shift nearly all the weight onto the other foot before a lift).
   double touch_force_fraction = 0.01;
   double on_floor_gap_m = 0.002;  ///< [m]
+  /// [m] a reference foot labelled in contact whose sole centre is further than this from the
+  /// reference's own floor fails the check (`stance-off-floor`, reference_consistency.hpp).
+  /// Infinite: not checked (the validate job's setting when it labelled the contacts itself).
+  double stance_height_tolerance_m = 0.05;
   double contact_tolerance_s = 0.15;     ///< [s] allowed lag between a reference contact change and the robot's
   double cop_margin_m = 0.01;            ///< [m] COP closer than this to the support edge is reported
   double slip_speed_mps = 0.10;          ///< [m/s] loaded stance foot faster than this slides

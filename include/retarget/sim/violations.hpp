@@ -18,13 +18,17 @@ enum class ViolationKind {
   /// The walking controller's balance plan had to move the reference's COM by more than its bound
   /// (BalancePlanOptions::max_shift_m): the reference is not feasible as exported.
   HeavyCorrection,
+  /// The reference labels a foot in contact while its sole is off the reference's own floor
+  /// (reference_consistency.hpp): the motion is inconsistent before any controller runs.
+  StanceOffFloor,
 };
 
 /// "fall", "cop-near-edge", ... (stable names used in report.json and summaries).
 const char* violation_name(ViolationKind kind);
 /// Inverse of violation_name: the kind named `name`; false when no kind has that name.
 bool violation_kind_from_name(const std::string& name, ViolationKind& kind);
-/// Whether this kind fails the check (exit status 1): falls, unmet contacts, heavy correction.
+/// Whether this kind fails the check (exit status 1): falls, unmet contacts, heavy correction,
+/// stance feet off the floor.
 bool violation_fails_check(ViolationKind kind);
 
 struct Violation {

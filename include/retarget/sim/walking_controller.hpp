@@ -53,6 +53,12 @@ struct WalkingControllerOptions {
   /// [s] a swing foot that lands this close to its reference touchdown becomes a stance foot.
   double early_touchdown_s = 0.15;
   double trunk_blend_s = 0.25;      ///< [s] trunk-mapping changes are blended in over this time
+  /// Task-space gains of the feet [1/s², 1/s] (replacing the tracking options' foot_kp/foot_kd):
+  /// critically damped at 20 rad/s. With the joint gains (36/12, 6 rad/s) a swing foot lagged its
+  /// trajectory and landed up to 9 cm short, which the trunk mapping then carried into the COM
+  /// reference. robot.yaml `controller.foot_gains` overrides them.
+  double foot_kp = 400.0;
+  double foot_kd = 40.0;
   TrunkMappingOptions trunk = [] {
     TrunkMappingOptions t;
     t.max_scale = 1.0;              // translation and yaw only: a walk's stance width is not a scale

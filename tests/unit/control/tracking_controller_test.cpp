@@ -168,7 +168,9 @@ TEST(TrackingController, TorqueLimitsAreConstraintsNotClipping) {
   EXPECT_EQ(b.saturated_joints, a.saturated_joints);  // judged on the same unconstrained demand
   const VecX& limit = fx.model->effort_limits();
   for (int i = 0; i < p.nu; ++i) {
-    if (limit[i] > 0) EXPECT_LE(std::abs(b.tau[i]), limit[i] * (1 + 1e-9) + 1e-9) << "joint " << i;
+    if (limit[i] > 0) {
+      EXPECT_LE(std::abs(b.tau[i]), limit[i] * (1 + 1e-9) + 1e-9) << "joint " << i;
+    }
   }
   auto y_of = [&](const TrackingCommand& c) {
     VecX y(p.nu + p.nf);

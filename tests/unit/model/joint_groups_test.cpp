@@ -38,7 +38,7 @@ TEST(JointGroups, GroupGainsReachTheCheckAndJointGainsOverrideThem) {
   const auto end = text.find("\n\n", at);
   text.replace(at, end - at,
                "controller:\n  kp: 36\n  kd: 12\n  group_gains:\n    legs: {kp: 100, kd: 20}\n    arms: {kp: 16}\n"
-               "  joint_gains:\n    l_knee: {kp: 200, kd: 30}");
+               "  joint_gains:\n    l_knee: {kp: 200, kd: 30}\n  foot_gains: {kp: 900}");
   // The copy refers to the URDF beside the original.
   const auto urdf = text.find("urdf:");
   ASSERT_NE(urdf, std::string::npos);
@@ -65,6 +65,11 @@ TEST(JointGroups, GroupGainsReachTheCheckAndJointGainsOverrideThem) {
     }
   }
   EXPECT_GT(std::count(g.begin(), g.end(), JointGroup::Arms), 0);
+  // The feet's task-space gains (walking controller): kd defaults to critical damping.
+  EXPECT_EQ(o.walking.foot_kp, 900);
+  EXPECT_EQ(o.walking.foot_kd, 60);
+  const DynamicsCheckOptions d = default_check_options(*RobotModel::load(robot));
+  EXPECT_EQ(d.walking.foot_kp, WalkingControllerOptions{}.foot_kp);
 }
 
 }  // namespace

@@ -128,7 +128,8 @@ TEST(RobotConfig, SchemaErrorsNameFileLineAndKeyPath) {
                       5, "feet.right.link: left and right feet use the same link");
   expect_config_error(base + "simulation: {timestep: 0.5}\n", 7, "simulation.timestep: timestep must be in [1e-05, 0.05], got 0.5");
   expect_config_error(base + "simulation: {armature: [1]}\n", 7, "simulation.armature: expected a number");
-  expect_config_error(base + "controller: {kp: 1, gains: 2}\n", 7, "controller.gains: unknown key (allowed: kp, kd, group_gains, joint_gains)");
+  expect_config_error(base + "controller: {kp: 1, gains: 2}\n", 7, "controller.gains: unknown key (allowed: kp, kd, group_gains, joint_gains, foot_gains)");
+  expect_config_error(base + "controller: {foot_gains: {kd: 3}}\n", 7, "controller.foot_gains: missing required key 'kp'");
   expect_config_error(base + "export_joints: [waist, waist]\n", 7, "export_joints[1]: joint 'waist' is listed twice");
   expect_config_error(base + "standing_pose: {root_height: -1}\n", 7,
                       "standing_pose.root_height: root_height must be in [0.001, 100], got -1");

@@ -1,0 +1,23 @@
+#pragma once
+/// Checks of the reference itself, before it is simulated: what no controller should be asked to
+/// hide. A controller maps the reference onto where the robot's feet actually are (trunk mapping),
+/// so a reference whose labelled stance feet are far off the floor (a root that jumps 0.3 m in one
+/// frame, a clip with its floor at the wrong height) would otherwise be quietly re-based at the next
+/// contact change and could pass.
+
+#include <vector>
+
+#include "retarget/sim/violations.hpp"
+
+namespace rt {
+
+class ReferenceSignal;
+
+/// `stance-off-floor` violations: spans of frames where a foot labelled in contact has its sole
+/// centre more than `tolerance_m` above or below the reference's own floor, the median height of
+/// all its labelled stance sole centres (so that a reference exported over a floor at another
+/// constant height is not charged for it). Times are clip times: frame time minus `lead_s` (the
+/// standing lead-in prepended to the signal).
+std::vector<Violation> stance_off_floor(const ReferenceSignal& signal, double lead_s, double tolerance_m);
+
+}  // namespace rt
