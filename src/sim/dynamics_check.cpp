@@ -159,6 +159,7 @@ DynamicsCheckResult run_dynamics_check(const RobotModel& model, const Reference&
 
   const double t_end = std::max(0.0, std::min(plant.time_s() - o.settle_s - lead_s, clip_duration));
   monitor.finish(t_end, res);
+  explain_fall(res.violations);
   controller->finish(res);
   res.simulated_s = res.fell ? res.fall_time_s : clip_duration;
   res.passed = std::none_of(res.violations.begin(), res.violations.end(), [](const Violation& v) { return violation_fails_check(v.kind); });

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "retarget/core/strings.hpp"
+
 namespace rt {
 
 const char* violation_name(ViolationKind kind) {
@@ -35,6 +37,27 @@ bool violation_fails_check(ViolationKind kind) {
   return kind == ViolationKind::Fall || kind == ViolationKind::ContactNotAchieved ||
          kind == ViolationKind::LiftOffNotAchieved || kind == ViolationKind::HeavyCorrection ||
          kind == ViolationKind::StanceOffFloor;
+}
+
+void explain_fall(std::vector<Violation>& violations, double window_s) {
+  const auto fall = std::find_if(violations.begin(), violations.end(), [](const Violation& v) { return v.kind == ViolationKind::Fall; });
+  if (fall == violations.end()) return;
+  const double t1 = fall->start_s, t0 = t1 - window_s;
+  std::string why;
+  for (ViolationKind kind : {ViolationKind::CopNearEdge, ViolationKind::FootSlip, ViolationKind::TorqueSaturation,
+                             ViolationKind::JointLimit}) {
+    double overlap = 0;
+    const Violation* worst = nullptr;
+    for (const Violation& v : violations) {
+      if (v.kind != kind || v.end_s < t0 || v.start_s > t1) continue;
+      overlap += std::min(v.end_s, t1) - std::max(v.start_s, t0);
+      if (!worst || v.magnitude > worst->magnitude) worst = &v;
+    }
+    if (!worst) continue;
+    why += format("; %s %.2f s", kind == ViolationKind::CopNearEdge ? "COP at the support's edge" : violation_name(kind), overlap);
+    if (kind != ViolationKind::CopNearEdge) why += " (" + worst->detail + ")";
+  }
+  if (!why.empty()) fall->detail += format("; in the %g s before:", window_s) + why.substr(1);
 }
 
 ViolationTracker::ViolationTracker(ViolationKind kind, std::string unit, double min_duration_s)

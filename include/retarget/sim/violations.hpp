@@ -40,6 +40,13 @@ struct Violation {
   std::string detail;     ///< which foot / joint / link, and what was measured
 };
 
+/// What led to a fall: appends to the detail of the fall in `violations` the warnings (COP at the
+/// support's edge, foot slip, torque saturation, joint limits) that overlap the `window_s` before
+/// it, each with its time within the window and its worst instance, e.g. "; in the 0.5 s before:
+/// COP at the support's edge 0.42 s; foot-slip 0.10 s (right foot sole slides at 0.875 m/s)".
+/// A fall has one cause the summary can name, instead of the last symptom (the trunk's tilt).
+void explain_fall(std::vector<Violation>& violations, double window_s = 0.5);
+
 /// Tracks one condition over time and emits a Violation for every span where it held at least
 /// `min_duration_s`.
 class ViolationTracker {
