@@ -7,6 +7,7 @@
 #include "retarget/core/gaussian_filter.hpp"
 #include "retarget/model/centroidal.hpp"
 #include "retarget/model/robot_model.hpp"
+#include "retarget/sim/ankle_reach.hpp"
 #include "retarget/sim/reference_signal.hpp"
 
 namespace rt {
@@ -62,7 +63,14 @@ BalancePlan plan_reference_balance(const RobotModel& model, RobotData& data, con
       if (offset.col(f).norm() > o.max_offset_m) offset.col(f) *= o.max_offset_m / offset.col(f).norm();
   }
 
-  // Support per frame: the hull of the stance sole rectangles, laid flat, shrunk by the margin.
+  // Support per frame: the hull of the stance sole rectangles (the ankles' reach), laid flat, shrunk
+  // by the margin.
+  std::array<SoleReach, 2> reach;
+  for (int foot = 0; foot < 2; ++foot) {
+    reach[static_cast<std::size_t>(foot)].max_S = 0.5 * model.soles()[static_cast<std::size_t>(foot)].size_m;
+    reach[static_cast<std::size_t>(foot)].min_S = -reach[static_cast<std::size_t>(foot)].max_S;
+  }
+  if (o.ankle_reach) reach = ankle_reach(model, model.total_mass_kg() * 9.81);
   std::vector<std::vector<HalfPlane>> support(static_cast<std::size_t>(T));
   std::vector<Vec2> centre(static_cast<std::size_t>(T), Vec2::Zero());
   for (int f = 0; f < T; ++f) {
@@ -74,9 +82,9 @@ BalancePlan plan_reference_balance(const RobotModel& model, RobotData& data, con
       const double yaw = std::atan2(x.y(), x.x());
       const Eigen::Rotation2Dd R(yaw);
       const Vec2 c = X.translation().head<2>();
-      const Vec2 half = 0.5 * model.soles()[static_cast<std::size_t>(foot)].size_m.head<2>();
-      for (const Vec2& s : {Vec2(1, 1), Vec2(-1, 1), Vec2(-1, -1), Vec2(1, -1)})
-        corners.push_back(c + R * half.cwiseProduct(s));
+      const SoleReach& r = reach[static_cast<std::size_t>(foot)];
+      for (const Vec2& s : {r.max_S, Vec2(r.min_S.x(), r.max_S.y()), r.min_S, Vec2(r.max_S.x(), r.min_S.y())})
+        corners.push_back(c + R * s);
     }
     const SupportPolygon polygon = SupportPolygon::convex_hull(std::move(corners));
     support[static_cast<std::size_t>(f)] = polygon.half_planes(o.margin_m);

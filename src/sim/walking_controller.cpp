@@ -66,6 +66,12 @@ WalkingController::WalkingController(const RobotModel& model, const ReferenceSig
   RobotData data(model);
   BalancePlanOptions po = w_->plan;
   po.lead_in_s = o.settle_s;  // the settle phase is the plan's standing lead-in
+  po.ankle_reach = w_->ankle_reach;
+  for (int f = 0; f < 2; ++f) {
+    reach_[static_cast<std::size_t>(f)].max_S = 0.5 * model.soles()[static_cast<std::size_t>(f)].size_m;
+    reach_[static_cast<std::size_t>(f)].min_S = -reach_[static_cast<std::size_t>(f)].max_S;
+  }
+  if (w_->ankle_reach) reach_ = ankle_reach(model, model.total_mass_kg() * kGravity);
   plan_ = plan_reference_balance(model, data, signal, po);
   plan_delta_ = Eigen::Matrix2Xd::Zero(2, plan_.size());
   weight_n_ = model.total_mass_kg() * kGravity;
@@ -181,9 +187,7 @@ void WalkingController::control(const ControlInput& in, ControlOutput& out) {
   for (int f = 0; f < 2; ++f) {
     const auto fi = static_cast<std::size_t>(f);
     if (!(loaded[fi] && contact_now[fi])) continue;
-    const Sole& sole = model.soles()[fi];
-    const Iso3 X = link_pose(model, data, sole.link);
-    for (const Vec3& q : sole.corners_L()) corners.push_back((X * q).head<2>());
+    for (const Vec3& q : reach_corners_W(sole_frame_W(model, data, f, R_L_sole_[fi]), reach_[fi])) corners.push_back(q.head<2>());
   }
   const SupportPolygon support = SupportPolygon::convex_hull(std::move(corners));
   bool clamped = false;
@@ -288,7 +292,6 @@ void WalkingController::control(const ControlInput& in, ControlOutput& out) {
 
 void WalkingController::maybe_replan(const ControlInput& in, const TrunkTransform& map, const Vec2& xi, double omega) {
   const auto start = std::chrono::steady_clock::now();
-  const RobotModel& model = *model_;
   const ReferenceSignal& signal = *signal_;
   const WalkingControllerOptions& w = *w_;
   // The window lies on the plan's grid: the feed-forward ZMP is the second difference of the plan
@@ -309,7 +312,6 @@ void WalkingController::maybe_replan(const ControlInput& in, const TrunkTransfor
     for (int f = 0; f < 2; ++f) {
       const auto fi = static_cast<std::size_t>(f);
       if (!signal.contacts()[fi][static_cast<std::size_t>(k)]) continue;
-      const Sole& sole = model.soles()[fi];
       const auto run = contact_run(f, k_now);
       const bool same_stance = signal.contacts()[fi][static_cast<std::size_t>(k_now)] && k <= run.second && stance_pose_[fi];
       Iso3 X;
@@ -323,7 +325,7 @@ void WalkingController::maybe_replan(const ControlInput& in, const TrunkTransfor
         X = flat_on_floor(X_mapped);
         X.translation().head<2>() += foothold_offset_[fi];
       }
-      for (const Vec3& c : sole_corners_W(X, sole)) corners.push_back(c.head<2>());
+      for (const Vec3& c : reach_corners_W(X, reach_[fi])) corners.push_back(c.head<2>());
     }
     return SupportPolygon::convex_hull(std::move(corners));
   };

@@ -30,6 +30,9 @@ class ReferenceSignal;
 struct BalancePlanOptions {
   double period_s = 0.01;          ///< [s] plan grid
   double margin_m = 0.015;         ///< [m] the stance polygons are shrunk by this for the plan
+  /// Each stance sole counts only where its ankle can hold the COP under the body's weight
+  /// (ankle_reach.hpp), not as the whole sole.
+  bool ankle_reach = true;
   /// [s] Gaussian smoothing of the multibody offset Δp (finite differences of a 30 fps reference
   /// amplify its noise) and its length cap [m] (a longer one is a glitch of the motion).
   double offset_smoothing_s = 0.03;

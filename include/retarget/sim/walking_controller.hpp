@@ -35,6 +35,7 @@
 #include <vector>
 
 #include "retarget/control/trunk_mapping.hpp"
+#include "retarget/sim/ankle_reach.hpp"
 #include "retarget/sim/balance_plan.hpp"
 #include "retarget/sim/check_controller.hpp"
 
@@ -49,6 +50,9 @@ struct WalkingControllerOptions {
   double lead_in_lift_s = 0.3;
   double dcm_gain = 3.0;            ///< k_ξ [1/s]: DCM error decay rate
   double cop_clamp_margin_m = 0.005;///< [m] the commanded COP stays this far inside the loaded support
+  /// The loaded support is made of the soles' ankle reach (ankle_reach.hpp) rather than the whole
+  /// soles, here, in the re-planner and in the whole-clip plan (`plan.ankle_reach`).
+  bool ankle_reach = true;
   double force_ramp_s = 0.06;       ///< [s] normal-force ramp at touchdown and lift-off
   /// [s] a swing foot that lands this close to its reference touchdown becomes a stance foot.
   double early_touchdown_s = 0.15;
@@ -107,6 +111,7 @@ class WalkingController final : public CheckController {
   Eigen::Matrix2Xd plan_delta_;  ///< online corrections of the planned COM on the plan grid (unmapped)
   double weight_n_ = 0;
   std::array<Mat3, 2> R_L_sole_;
+  std::array<SoleReach, 2> reach_;  ///< where each sole may carry the commanded COP
   // Trunk mapping with blending.
   TrunkTransform map_from_, map_to_;
   double blend_start_s_ = -1e9;
