@@ -13,6 +13,7 @@
 #include "retarget/core/error.hpp"
 #include "retarget/core/file_io.hpp"
 #include "retarget/core/strings.hpp"
+#include "retarget/ik/single_support_reach.hpp"
 #include "retarget/model/robot_checks.hpp"
 #include "retarget/model/robot_guess.hpp"
 #include "retarget/model/robot_model.hpp"
@@ -54,8 +55,13 @@ int run_init_robot(InitRobotCliOptions o) {
                       model->standing_com_height_m());
   const StandingHoldResult hold = simulate_standing_hold(*model);
   std::cout << "  standing hold " << (hold.fell ? "falls: " + hold.failure : std::string("stands")) << "\n";
+  // Static single support: can the COM be brought over each sole with the other foot lifted?
+  const auto reach = single_support_reach(*model);
+  std::cout << format("  one foot      COM over the left sole: %s; over the right sole: %s (IK, joint limits)\n",
+                      describe_reach(reach[0]).c_str(), describe_reach(reach[1]).c_str());
   Diagnostics findings = model->diagnostics();
   findings.append(check_robot(*model));
+  findings.append(check_single_support(*model, reach));
   std::cout << format("  checks        %zu warning(s)\n", findings.warning_count());
   for (const Diagnostic& d : findings.items()) std::cout << "    " << d.to_string() << "\n";
   std::cout << "next: retarget inspect " << o.out_dir << "; retarget convert CLIP --robot " << o.out_dir << " --check\n";

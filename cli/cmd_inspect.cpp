@@ -15,6 +15,7 @@
 #include "cli/view_page.hpp"
 #include "retarget/core/error.hpp"
 #include "retarget/core/strings.hpp"
+#include "retarget/ik/single_support_reach.hpp"
 #include "retarget/model/robot_checks.hpp"
 #include "retarget/model/robot_model.hpp"
 #include "retarget/model/standing_hold.hpp"
@@ -131,8 +132,13 @@ int inspect_robot(const InspectOptions& o) {
                       "COM drift %.3f m)\n",
                       hold.fell ? ("falls: " + hold.failure).c_str() : "stands", hold.simulated_s,
                       c.simulation.hold_kp, c.simulation.hold_kd, hold.max_com_drift_m);
+  // Static single support: can the COM be brought over each sole with the other foot lifted?
+  const auto reach = single_support_reach(*model);
+  std::cout << format("  one foot      COM over the left sole: %s; over the right sole: %s (IK, joint limits)\n",
+                      describe_reach(reach[0]).c_str(), describe_reach(reach[1]).c_str());
   Diagnostics findings = model->diagnostics();
   findings.append(check_robot(*model));
+  findings.append(check_single_support(*model, reach));
   std::cout << format("  checks        %zu warning(s), %zu note(s)\n", findings.warning_count(),
                       findings.items().size() - findings.warning_count());
   for (const Diagnostic& d : findings.items()) std::cout << "    " << d.to_string() << "\n";
