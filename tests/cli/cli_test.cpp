@@ -76,6 +76,7 @@ TEST(Cli, InspectRobotAndClip) {
   EXPECT_NE(r.out.find("robot humanoid25"), std::string::npos);
   EXPECT_NE(r.out.find("mass          51.00 kg"), std::string::npos);
   EXPECT_NE(r.out.find("standing hold stands"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("one foot      COM over the left sole: reached"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("checks        0 warning(s)"), std::string::npos) << r.out;
   // The generated MuJoCo model, for MuJoCo's own tools.
   r = run(dir, "inspect '" + test::source_path("tests/data/urdf/odd_biped") + "' --mjcf model/odd.xml");
