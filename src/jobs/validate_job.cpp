@@ -1,9 +1,13 @@
 #include "retarget/jobs/validate_job.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
 #include "retarget/core/error.hpp"
+#include "retarget/core/strings.hpp"
+#include "retarget/ik/single_support_reach.hpp"
 #include "retarget/model/robot_model.hpp"
 #include "retarget/reference/npz_layout.hpp"
 #include "retarget/reference/reference_io.hpp"
@@ -32,6 +36,32 @@ DynamicsCheckOptions check_options(const ValidateRequest& request, bool contacts
   return o;
 }
 
+// A failed check of a reference that stands on one foot for a while, on a robot that cannot stand
+// on that foot at all (single_support_reach.hpp): say so, it is the reason whatever the controller.
+void explain_single_support(const RobotModel& model, const Reference& reference, const DynamicsCheckResult& check,
+                            Diagnostics& out, const std::string& where) {
+  if (check.passed || !reference.has_contacts() || !(reference.fps > 0)) return;
+  const double min_single_support_s = 0.3;  // longer than a walking step's: a hold, not a swing
+  std::array<double, 2> longest{{0, 0}};
+  for (std::size_t f = 0; f < 2; ++f) {
+    const auto& mine = reference.contact[f];
+    const auto& other = reference.contact[1 - f];
+    int run = 0;
+    for (std::size_t i = 0; i < mine.size() && i < other.size(); ++i) {
+      run = mine[i] && !other[i] ? run + 1 : 0;
+      longest[f] = std::max(longest[f], run / reference.fps);
+    }
+  }
+  if (std::max(longest[0], longest[1]) < min_single_support_s) return;
+  const auto reach = single_support_reach(model);
+  const char* side[2] = {"left", "right"};
+  for (std::size_t f = 0; f < 2; ++f)
+    if (longest[f] >= min_single_support_s && reach[f].com_outside_sole_m > 0.005)
+      out.warn(where, format("the reference stands on the %s foot alone for up to %.2f s, but %s cannot stand on its %s "
+                             "foot: its COM stops %.1f cm outside that sole with the other foot lifted (retarget inspect)",
+                             side[f], longest[f], model.name().c_str(), side[f], 100 * reach[f].com_outside_sole_m));
+}
+
 }  // namespace
 
 ValidateResult validate_reference(Reference reference, const RobotModel& model, const ValidateRequest& request) {
@@ -47,6 +77,7 @@ ValidateResult validate_reference(Reference reference, const RobotModel& model, 
     r.diagnostics.note(where, "no contact schedule in the file: contacts labelled from the reference's foot heights and speeds");
   }
   r.check = run_dynamics_check(model, reference, check_options(request, r.contacts_labelled));
+  explain_single_support(model, reference, r.check, r.diagnostics, where);
   r.reference = std::move(reference);
   return r;
 }
