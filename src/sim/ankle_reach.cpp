@@ -31,13 +31,11 @@ std::array<SoleReach, 2> ankle_reach(const RobotModel& model, double load_n) {
   const std::array<Mat3, 2> R_L_sole = sole_frames_in_links(model, data);
   update_kinematics(model, data, q);
   const double cos30 = std::cos(M_PI / 6);
-  std::array<SoleReach, 2> out;
+  std::array<SoleReach, 2> out = whole_soles(model);
+  if (!(load_n > 0)) return out;
   for (int f = 0; f < 2; ++f) {
     const Sole& sole = model.soles()[static_cast<std::size_t>(f)];
     SoleReach& r = out[static_cast<std::size_t>(f)];
-    r.max_S = 0.5 * sole.size_m;
-    r.min_S = -r.max_S;
-    if (!(load_n > 0)) continue;
     const Iso3 X_W_S = sole_frame_W(model, data, f, R_L_sole[static_cast<std::size_t>(f)]);
     const Iso3 X_S_W = X_W_S.inverse();
     int link = sole.link, movable = 0;
@@ -62,6 +60,15 @@ std::array<SoleReach, 2> ankle_reach(const RobotModel& model, double load_n) {
         r.roll_joint = J.name;
       }
     }
+  }
+  return out;
+}
+
+std::array<SoleReach, 2> whole_soles(const RobotModel& model) {
+  std::array<SoleReach, 2> out;
+  for (std::size_t f = 0; f < 2; ++f) {
+    out[f].max_S = 0.5 * model.soles()[f].size_m;
+    out[f].min_S = -out[f].max_S;
   }
   return out;
 }

@@ -65,12 +65,8 @@ BalancePlan plan_reference_balance(const RobotModel& model, RobotData& data, con
 
   // Support per frame: the hull of the stance sole rectangles (the ankles' reach), laid flat, shrunk
   // by the margin.
-  std::array<SoleReach, 2> reach;
-  for (int foot = 0; foot < 2; ++foot) {
-    reach[static_cast<std::size_t>(foot)].max_S = 0.5 * model.soles()[static_cast<std::size_t>(foot)].size_m;
-    reach[static_cast<std::size_t>(foot)].min_S = -reach[static_cast<std::size_t>(foot)].max_S;
-  }
-  if (o.ankle_reach) reach = ankle_reach(model, model.total_mass_kg() * 9.81);
+  const std::array<SoleReach, 2> reach =
+      o.ankle_reach ? ankle_reach(model, model.total_mass_kg() * 9.81) : whole_soles(model);
   std::vector<std::vector<HalfPlane>> support(static_cast<std::size_t>(T));
   std::vector<Vec2> centre(static_cast<std::size_t>(T), Vec2::Zero());
   for (int f = 0; f < T; ++f) {

@@ -67,11 +67,7 @@ WalkingController::WalkingController(const RobotModel& model, const ReferenceSig
   BalancePlanOptions po = w_->plan;
   po.lead_in_s = o.settle_s;  // the settle phase is the plan's standing lead-in
   po.ankle_reach = w_->ankle_reach;
-  for (int f = 0; f < 2; ++f) {
-    reach_[static_cast<std::size_t>(f)].max_S = 0.5 * model.soles()[static_cast<std::size_t>(f)].size_m;
-    reach_[static_cast<std::size_t>(f)].min_S = -reach_[static_cast<std::size_t>(f)].max_S;
-  }
-  if (w_->ankle_reach) reach_ = ankle_reach(model, model.total_mass_kg() * kGravity);
+  reach_ = w_->ankle_reach ? ankle_reach(model, model.total_mass_kg() * kGravity) : whole_soles(model);
   plan_ = plan_reference_balance(model, data, signal, po);
   plan_delta_ = Eigen::Matrix2Xd::Zero(2, plan_.size());
   weight_n_ = model.total_mass_kg() * kGravity;

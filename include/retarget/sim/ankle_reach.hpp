@@ -30,6 +30,9 @@ struct SoleReach {
 /// than the sole leaves the point under the axis.
 std::array<SoleReach, 2> ankle_reach(const RobotModel& model, double load_n);
 
+/// The whole sole rectangles, uncut (what ankle_reach gives for no load).
+std::array<SoleReach, 2> whole_soles(const RobotModel& model);
+
 /// Corners (counter-clockwise seen from above) of `reach` at the sole frame `X_W_sole`.
 std::array<Vec3, 4> reach_corners_W(const Iso3& X_W_sole, const SoleReach& reach);
 
