@@ -28,6 +28,27 @@ CentroidalMomentum centroidal_momentum(const RobotModel& model, RobotData& data,
   return out;
 }
 
+MatX centroidal_angular_matrix(const RobotModel& model, const RobotData& data) {
+  const mjModel* m = model.mj();
+  // mj_jacBodyCom only uses mjData's scratch stack: the cached kinematics are not modified.
+  mjData* d = const_cast<mjData*>(data.mj());
+  const int nv = m->nv, root = model.root_body();
+  const Vec3 c = Eigen::Map<const Vec3>(d->subtree_com + 3 * root);
+  MatXr jp(3, nv), jr(3, nv);
+  MatX A = MatX::Zero(3, nv);
+  for (int b = 1; b < m->nbody; ++b) {
+    if (!(m->body_mass[b] > 0) || m->body_rootid[b] != m->body_rootid[root]) continue;
+    mj_jacBodyCom(m, d, jp.data(), jr.data(), b);
+    const Vec3 r = Eigen::Map<const Vec3>(d->xipos + 3 * b) - c;
+    Mat3 skew;
+    skew << 0, -r.z(), r.y(), r.z(), 0, -r.x(), -r.y(), r.x(), 0;
+    const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> R(d->ximat + 9 * b);
+    const Vec3 I(m->body_inertia[3 * b], m->body_inertia[3 * b + 1], m->body_inertia[3 * b + 2]);
+    A.noalias() += m->body_mass[b] * skew * jp + (R * I.asDiagonal() * R.transpose()) * jr;
+  }
+  return A;
+}
+
 MultibodyZmp multibody_zmp(const RobotModel& model, RobotData& data, const MatX& q, double fps) {
   const int T = static_cast<int>(q.cols());
   RT_DEMAND(q.rows() == model.nq() && T > 0 && fps > 0, "multibody_zmp: bad motion");

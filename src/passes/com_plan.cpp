@@ -14,6 +14,9 @@
 #include "retarget/model/robot_model.hpp"
 #include "retarget/passes/ik_pass.hpp"
 #include "retarget/passes/stance_support.hpp"
+#include "src/refine/foot_plan.hpp"
+#include "src/refine/signal_smoother.hpp"
+#include "src/refine/smooth_correction.hpp"
 
 namespace rt {
 
@@ -99,6 +102,12 @@ ComPlanPass::ComPlanPass() {
   table_.add("velocity_margin", options_.velocity_margin, "fraction of each velocity limit the frame-to-frame bounds keep free");
   table_.add("foot_tolerance", options_.foot_tolerance_m, "[m] a round that moves a held sole further is dropped");
   table_.add("follow_tolerance", options_.follow_tolerance_m, "[m] frames whose COM misses the plan by more are reported");
+  table_.add("whole_body_iterations", options_.whole_body_iterations,
+             "Gauss-Newton iterations of the whole-body ZMP correction on the export grid (0: off)", {0, 100, ""});
+  table_.add("whole_body_zmp_weight", options_.whole_body_zmp_weight, "whole-body stage: weight of a ZMP row [1/m^2]");
+  table_.add("whole_body_smoothing_hz", options_.whole_body_smoothing_hz, "[Hz] whole-body stage: cutoff of its smoothness term",
+             {0.1, 100, "Hz"});
+  table_.add("fps", options_.export_fps, "[Hz] the export rate the whole-body stage works at (--fps sets it)", {1, 1000, "Hz"});
 }
 
 void ComPlanPass::run(Clip& clip, PassContext& ctx) {
@@ -110,7 +119,7 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
   const double fps = motion.fps, dt = options_.plan.period_s;
   if (!(dt > 0 && dt <= 0.1)) throw InputError("com-plan{period}", "must be in (0, 0.1] s");
   if (!(options_.margin_m >= 0 && options_.margin_m < 0.1)) throw InputError("com-plan{margin}", "must be in [0, 0.1) m");
-  if (options_.iterations < 1 || options_.iterations > 20) throw InputError("com-plan{iterations}", "must be 1 to 20");
+  if (options_.iterations < 0 || options_.iterations > 20) throw InputError("com-plan{iterations}", "must be 0 to 20");
   if (options_.ik_iterations < 1 || options_.ik_iterations > 1000) throw InputError("com-plan{ik_iterations}", "must be 1 to 1000");
   if (!(options_.smoothing_s >= 0 && options_.smoothing_s <= 0.5)) throw InputError("com-plan{smoothing}", "must be in [0, 0.5] s");
   if (!(options_.swing_smoothing_s >= 0 && options_.swing_smoothing_s <= 0.5))
@@ -389,6 +398,174 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
     // cart-table ZMP.
     offset = angular_part(realised, com_target);
     for (int k = 0; k < K; ++k) samples[static_cast<std::size_t>(k)].zmp_offset_W = at_time(offset, fps, k * dt);
+  }
+
+  // 5. Whole-body stage, on the export grid (`fps`, where the exported motion's ZMP is measured):
+  // what the COM plan leaves outside (mostly the angular-momentum part the rounds cannot predict)
+  // removed by the smallest smooth joint-space correction whose multibody ZMP rows hold the ZMP in
+  // the support shrunk by the margin, the soles where they are (stance held, swing on its path),
+  // the floor, the limits and the speed limits (refine's smooth correction with ZMP rows). The
+  // correction is smooth (whole_body_smoothing_hz), so it is carried to the source rate by linear
+  // interpolation; the stage is kept if the export grid's ZMP improves and the soles stay held.
+  refine::CorrectionReport whole_body;
+  const int K_out = static_cast<int>(std::floor((T - 1) / fps * options_.export_fps + 1e-9)) + 1;
+  if (options_.whole_body_iterations > 0 && K_out >= 4) {
+    const double fo = options_.export_fps;
+    const MatX& q0 = best_follow.q;
+    // Source frames i, i + 1 and weight a of the export grid's frame k (as the resample pass).
+    auto source_of = [&](int k, int& i, int& j, double& a) {
+      const double s = std::min(k / fo * fps, static_cast<double>(T - 1));
+      i = std::min(static_cast<int>(std::floor(s)), T - 1);
+      j = std::min(i + 1, T - 1);
+      a = s - i;
+    };
+    auto to_export_grid = [&](const MatX& q) {
+      MatX out(model.nq(), K_out);
+      for (int k = 0; k < K_out; ++k) {
+        int i, j;
+        double a;
+        source_of(k, i, j, a);
+        out.col(k) = (1 - a) * q.col(i) + a * q.col(j);
+        const Quat Qi(q(3, i), q(4, i), q(5, i), q(6, i)), Qj(q(3, j), q(4, j), q(5, j), q(6, j));
+        const Quat Q = Qi.slerp(a, Qj).normalized();
+        out.col(k).segment<4>(3) << Q.w(), Q.x(), Q.y(), Q.z();
+      }
+      return out;
+    };
+    const MatX q0o = to_export_grid(q0);
+    refine::FootPlan feet;
+    std::vector<SupportPolygon> polygon_o(static_cast<std::size_t>(K_out));
+    refine::CorrectionOptions co;
+    co.zmp_support.resize(static_cast<std::size_t>(K_out));
+    for (std::size_t k = 0; k < 2; ++k) feet.feet[k].resize(static_cast<std::size_t>(K_out));
+    for (int k = 0; k < K_out; ++k) {
+      int i, j;
+      double a;
+      source_of(k, i, j, a);
+      const int nearest = a < 0.5 ? i : j;
+      update_kinematics(model, data, q0o.col(k));
+      std::array<bool, 2> down{{true, true}};
+      for (std::size_t foot = 0; foot < 2; ++foot) {
+        if (labelled) down[foot] = clip.contacts.in_contact[foot][static_cast<std::size_t>(nearest)] != 0;
+        const Iso3 X = link_pose(model, data, model.soles()[foot].link);
+        // Held wherever a source frame the interpolation reaches (within one export period) is in
+        // stance, so the interpolated correction holds every source stance frame too.
+        bool hold = down[foot];
+        if (labelled)
+          for (int g = std::max(0, static_cast<int>(std::floor((k - 1) / fo * fps)));
+               g <= std::min(T - 1, static_cast<int>(std::ceil((k + 1) / fo * fps))) && !hold; ++g)
+            hold = clip.contacts.in_contact[foot][static_cast<std::size_t>(g)] != 0;
+        refine::FootTarget& t = feet.feet[foot][static_cast<std::size_t>(k)];
+        t.mode = hold ? refine::FootMode::Stance : refine::FootMode::Swing;
+        t.pose.p_W = X * model.soles()[foot].p_L_center;
+        t.pose.R_W = X.linear() * R_L_sole[foot];
+      }
+      polygon_o[static_cast<std::size_t>(k)] = stance_support_polygon(model, data, down);
+      co.zmp_support[static_cast<std::size_t>(k)] = polygon_o[static_cast<std::size_t>(k)].half_planes(options_.margin_m);
+    }
+    auto score_o = [&](const Eigen::Matrix2Xd& zmp) {
+      Score s;
+      for (int k = 1; k + 1 < K_out; ++k) {
+        const SupportPolygon& p = polygon_o[static_cast<std::size_t>(k)];
+        if (p.empty()) continue;
+        const double d = p.signed_distance(zmp.col(k));
+        s.outside += d > 0.01;  // the metric's "within 1 cm"
+        s.worst_m = std::max(s.worst_m, d);
+      }
+      return s;
+    };
+    co.swing_weight = 1e4;
+    co.q_lower = model.q_lower().array() + 1e-4;
+    co.q_upper = model.q_upper().array() - 1e-4;
+    co.max_step = (1 - options_.velocity_margin) * v_max / fo;
+    co.lambda = refine::smoothing_lambda(options_.whole_body_smoothing_hz, fo);
+    // Who moves: the legs first, the root and the rest of the body 100 and 30 times stiffer (refine's rule).
+    co.stiffness = VecX::Constant(model.nv(), 30.0);
+    co.stiffness.head<3>().setConstant(100.0);
+    for (const Sole& sole : model.soles())
+      for (int d : link_dof_chain(model, sole.link))
+        if (d >= 6) co.stiffness[d] = 1.0;
+    co.R_L_sole = R_L_sole;
+    co.iterations = options_.whole_body_iterations;
+    co.zmp_weight = options_.whole_body_zmp_weight;
+    co.fps = fo;
+    const MatX q1o = refine::solve_smooth_correction(model, data, q0o, q0o, feet, co, &whole_body);
+    // The correction to the source rate, joints clamped (the limit rows are penalties).
+    MatX q1 = q0;
+    for (int f = 0; f < T; ++f) {
+      const double s = std::min(f / fps * fo, static_cast<double>(K_out - 1));
+      const int k = std::min(static_cast<int>(std::floor(s)), K_out - 1), k1 = std::min(k + 1, K_out - 1);
+      const double a = s - k;
+      const VecX delta = (1 - a) * difference(model, q0o.col(k), q1o.col(k), 1.0) + a * difference(model, q0o.col(k1), q1o.col(k1), 1.0);
+      q1.col(f) = integrate(model, q0.col(f), delta, 1.0);
+      for (int i = 0; i < model.nu(); ++i) q1(7 + i, f) = std::clamp(q1(7 + i, f), model.q_lower()[i], model.q_upper()[i]);
+    }
+    // Between export frames the interpolated correction holds a stance sole only approximately
+    // (and not at all after a jump of the correction): those source frames have their legs projected
+    // back onto the held soles (root and upper body as they are). Then the soles are checked on
+    // every source frame the export spans (frames after its last sample are not exported).
+    {
+      IkOptions po;
+      po.max_iterations = 20;
+      po.regularization = 1e-6;
+      po.step_tolerance = 1e-10;
+      po.cost_tolerance = 1e-12;
+      po.root_free = {false, false, false, false, false, false};
+      const LandmarkIk leg_ik(model, po);
+      std::vector<IkTarget> held;
+      for (int f = 0; f < T; ++f) {
+        update_kinematics(model, data, q1.col(f));
+        held.clear();
+        double off = 0;
+        for (std::size_t foot = 0; foot < 2; ++foot) {
+          if (labelled && !clip.contacts.in_contact[foot][static_cast<std::size_t>(f)]) continue;
+          const IkTarget& t = frames.soles[static_cast<std::size_t>(f)][foot];
+          off = std::max(off, (link_point(model, data, t.link, t.p_L) - t.p_W).norm());
+          held.push_back(t);
+        }
+        if (off <= 2e-4) continue;
+        // Small moves only (no branch change of a leg within a frame): ±0.05 rad per joint.
+        IkJointBounds step;
+        step.lower = (q1.col(f).tail(model.nu()).array() - 0.05).cwiseMax(model.q_lower().array());
+        step.upper = (q1.col(f).tail(model.nu()).array() + 0.05).cwiseMin(model.q_upper().array());
+        VecX q = q1.col(f);
+        leg_ik.solve(data, held, q1.col(f), q, {}, {}, &step);
+        q1.col(f) = q;
+      }
+    }
+    // The correction's speed rows hold the export grid; between its frames the source motion's own
+    // speed adds to the correction's slope, so the joints are rate-limited at the source rate
+    // (forward, then backward: a step beyond the limit is cut, the excess moved to the neighbours).
+    for (int i = 0; i < model.nu(); ++i) {
+      if (!(v_max[i] > 0)) continue;
+      const double step = (1 - options_.velocity_margin) * v_max[i] / fps;
+      for (int f = 1; f < T; ++f) q1(7 + i, f) = std::clamp(q1(7 + i, f), q1(7 + i, f - 1) - step, q1(7 + i, f - 1) + step);
+      for (int f = T - 2; f >= 0; --f) q1(7 + i, f) = std::clamp(q1(7 + i, f), q1(7 + i, f + 1) - step, q1(7 + i, f + 1) + step);
+    }
+    double sole_move = 0;
+    for (int f = 0; f < T && f / fps <= (K_out - 1) / fo + 1e-9; ++f) {
+      update_kinematics(model, data, q1.col(f));
+      for (std::size_t foot = 0; foot < 2; ++foot)
+        if (!labelled || clip.contacts.in_contact[foot][static_cast<std::size_t>(f)])
+          sole_move = std::max(sole_move, (link_point(model, data, model.soles()[foot].link, model.soles()[foot].p_L_center) -
+                                           frames.soles[static_cast<std::size_t>(f)][foot].p_W).norm());
+    }
+    const MultibodyZmp z0o = multibody_zmp(model, data, q0o, fo), z1o = multibody_zmp(model, data, to_export_grid(q1), fo);
+    const Score before_o = score_o(z0o.zmp_W), after_o = score_o(z1o.zmp_W);
+    const bool kept = sole_move <= options_.foot_tolerance_m && after_o.better_than(before_o);
+    if (kept) {
+      best_follow.q = q1;
+      const MultibodyZmp z1 = multibody_zmp(model, data, q1, fps);
+      best = score(z1.zmp_W);
+      best_com = z1.com_W.topRows<2>();
+      // The exported balance reference: the export grid's ZMP (what the rows held), interpolated.
+      for (int f = 0; f < T; ++f) best_zmp.col(f) = at_time(z1o.zmp_W, fo, f / fps);
+    }
+    ctx.statistics.set("whole-body-zmp", after_o.outside, "frames",
+                       format("export-grid stance frames more than 1 cm outside after the whole-body stage, %d before (%s; %d "
+                              "iterations, %d rows left, worst %.3f m; sole move %.4f m)",
+                              before_o.outside, kept ? "kept" : "dropped", whole_body.iterations, whole_body.zmp_rows,
+                              whole_body.zmp_excess_max, sole_move));
   }
 
   motion.q = best_follow.q;

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "retarget/model/centroidal.hpp"
 #include "retarget/model/collision_hull.hpp"
 #include "retarget/model/kinematics.hpp"
 #include "retarget/model/robot_model.hpp"
@@ -120,9 +121,20 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
     int frame, dof;    // frames frame and frame + 1, velocity coordinate dof (a joint)
     double residual;   // [rad per frame] beyond the limit
   };
+  // A violated ZMP half-plane at `frame`: n, the residual nᵀp − d [m], and the terms the Jacobian holds fixed.
+  struct ZmpRow {
+    int frame;
+    Vec2 n;
+    double residual, com_height_m, vertical_force;  // c_z [m], g + c̈_z [m/s²]
+  };
+  const bool zmp_on = o.zmp_support.size() == static_cast<std::size_t>(T) && o.zmp_weight > 0 && o.fps > 0 && T >= 3;
+  const double mass = m->body_subtreemass[model.root_body()];
+  MatX q_all(model.nq(), zmp_on ? T : 0);
+  Mat3X com_all(3, zmp_on ? T : 0), L_all(3, zmp_on ? T : 0);
   auto evaluate = [&](const MatX& D, std::vector<FrameRows>& rows_out, std::vector<std::uint8_t>& used,
-                      std::vector<SpeedRow>& speed_out) {
+                      std::vector<SpeedRow>& speed_out, std::vector<ZmpRow>& zmp_out) {
     speed_out.clear();
+    zmp_out.clear();
     ++rep.evaluations;
     used.assign(static_cast<std::size_t>(nv), 0);
     for (int foot = 0; foot < 2; ++foot)
@@ -132,6 +144,7 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
       fr.rows.clear();
       fr.jac.clear();
       q = integrate(model, q_base.col(f), D.col(f), 1.0);
+      if (zmp_on) q_all.col(f) = q;
       update_kinematics(model, data, q);
       std::array<int, 2> skip{{-1, -1}};
       std::vector<std::pair<int, double>> min_height;
@@ -212,7 +225,32 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
           speed_out.push_back({f, 6 + i, step - std::copysign(lim, step)});
           used[static_cast<std::size_t>(6 + i)] = 1;
         }
+    if (zmp_on) {
+      // The multibody ZMP exactly as multibody_zmp computes it (v and L̇ by central differences).
+      for (int f = 0; f < T; ++f) {
+        const int a = std::max(f - 1, 0), b = std::min(f + 1, T - 1);
+        const CentroidalMomentum h =
+            centroidal_momentum(model, data, q_all.col(f), difference(model, q_all.col(a), q_all.col(b), (b - a) / o.fps));
+        com_all.col(f) = h.com_W;
+        L_all.col(f) = h.angular_com_W;
+      }
+      for (int f = 1; f + 1 < T; ++f) {
+        const std::vector<HalfPlane>& support = o.zmp_support[static_cast<std::size_t>(f)];
+        if (support.empty()) continue;
+        const Vec3 acc = (com_all.col(f + 1) - 2 * com_all.col(f) + com_all.col(f - 1)) * o.fps * o.fps;
+        const Vec3 dL = (L_all.col(f + 1) - L_all.col(f - 1)) * (0.5 * o.fps);
+        const double fz = std::max(kGravity + acc.z(), 0.1 * kGravity);
+        const Vec3& c = com_all.col(f);
+        const Vec2 p(c.x() - (c.z() * acc.x() + dL.y() / mass) / fz, c.y() - (c.z() * acc.y() - dL.x() / mass) / fz);
+        for (const HalfPlane& hp : support) {
+          const double r = hp.n.dot(p) - hp.d;
+          if (r > 0) zmp_out.push_back({f, hp.n, r, c.z(), fz});
+        }
+      }
+      if (!zmp_out.empty()) used.assign(static_cast<std::size_t>(nv), 1);
+    }
     double cost = 0;
+    for (const ZmpRow& r : zmp_out) cost += 0.5 * o.zmp_weight * r.residual * r.residual;
     for (const SpeedRow& r : speed_out) cost += 0.5 * o.limit_weight * r.residual * r.residual;
     for (const auto& fr : rows_out)
       for (const Row& row : fr.rows) cost += row.cost >= 0 ? row.cost : 0.5 * row.weight * row.residual * row.residual;
@@ -232,7 +270,8 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
   std::vector<std::uint8_t> used, used_try;
   std::vector<FrameRows> rows_try(static_cast<std::size_t>(T));
   std::vector<SpeedRow> speed, speed_try;
-  double cost = evaluate(Delta, rows, used, speed);
+  std::vector<ZmpRow> zmp, zmp_try;
+  double cost = evaluate(Delta, rows, used, speed, zmp);
   for (int it = 0; it < o.iterations; ++it) {
     std::vector<int> vars, index(static_cast<std::size_t>(nv), -1);
     for (int d = 0; d < nv; ++d)
@@ -316,6 +355,42 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
       b[f][a] += o.limit_weight * r.residual;
       b[f + 1][a] -= o.limit_weight * r.residual;
     }
+    // ZMP rows: Jacobian blocks G_k over all coordinates for k = f − 1, f, f + 1 (see the header);
+    // every coordinate is a variable once a ZMP row exists, so vars is the identity then.
+    if (!zmp.empty()) {
+      std::vector<MatX> J_com(static_cast<std::size_t>(T)), A_L(static_cast<std::size_t>(T));
+      auto jacobians_at = [&](int k) {
+        if (J_com[static_cast<std::size_t>(k)].size() > 0) return;
+        update_kinematics(model, data, integrate(model, q_base.col(k), Delta.col(k), 1.0));
+        J_com[static_cast<std::size_t>(k)] = com_jacobian(model, data).topRows<2>();
+        A_L[static_cast<std::size_t>(k)] = centroidal_angular_matrix(model, data).topRows<2>();
+      };
+      const double f2 = o.fps * o.fps;
+      std::array<VecX, 3> G;
+      for (const ZmpRow& z : zmp) {
+        const int f = z.frame;
+        for (int k = f - 1; k <= f + 1; ++k) jacobians_at(k);
+        const double a = z.com_height_m / z.vertical_force * f2, l = f2 / (mass * z.vertical_force);
+        const Vec2 s_n(-z.n.y(), z.n.x());  // nᵀ S, S L̇ = (L̇_y, −L̇_x)
+        const VecX sA = A_L[static_cast<std::size_t>(f)].transpose() * s_n;
+        for (int k = 0; k < 3; ++k) {
+          const VecX nJ = J_com[static_cast<std::size_t>(f - 1 + k)].transpose() * z.n;
+          G[static_cast<std::size_t>(k)] = k == 1 ? VecX((1 + 2 * a) * nJ + 2 * l * sA) : VecX(-a * nJ - l * sA);
+        }
+        const double w = o.zmp_weight;
+        for (int k1 = 0; k1 < 3; ++k1) {
+          const auto fk1 = static_cast<std::size_t>(f - 1 + k1);
+          b[fk1].noalias() -= w * z.residual * G[static_cast<std::size_t>(k1)];
+          for (int k2 = 0; k2 <= k1; ++k2) {
+            const MatX outer = w * G[static_cast<std::size_t>(k1)] * G[static_cast<std::size_t>(k2)].transpose();
+            const auto fk2 = static_cast<std::size_t>(f - 1 + k2);
+            if (k1 == k2) Dblk[fk1] += outer;
+            else if (k1 == k2 + 1) Eblk[fk2] += outer;
+            else Fblk[fk2] += outer;
+          }
+        }
+      }
+    }
     if (!solve_block_pentadiagonal(std::move(Dblk), std::move(Eblk), std::move(Fblk), b)) break;
     // Backtracking on the cost: the one-sided rows change their active set between steps.
     double alpha = 1, step = 0;
@@ -330,7 +405,7 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
           Delta_try(vars[static_cast<std::size_t>(a)], f) = Delta(vars[static_cast<std::size_t>(a)], f) + d;
           step = std::max(step, std::abs(d));
         }
-      const double cost_try = evaluate(Delta_try, rows_try, used_try, speed_try);
+      const double cost_try = evaluate(Delta_try, rows_try, used_try, speed_try, zmp_try);
       if (cost_try < cost) {
         accepted = true;
         cost = cost_try;
@@ -338,6 +413,7 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
         rows.swap(rows_try);
         used.swap(used_try);
         speed.swap(speed_try);
+        zmp.swap(zmp_try);
       }
     }
     rep.iterations = it + 1;
@@ -348,6 +424,8 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
   }
   MatX out(model.nq(), T);
   for (int f = 0; f < T; ++f) out.col(f) = integrate(model, q_base.col(f), Delta.col(f), 1.0);
+  rep.zmp_rows = static_cast<int>(zmp.size());
+  for (const ZmpRow& z : zmp) rep.zmp_excess_max = std::max(rep.zmp_excess_max, z.residual);
   if (report) *report = rep;
   return out;
 }

@@ -16,6 +16,15 @@
 /// (in double support the six directions the two feet do not fix, in swing everything the swing
 /// target does not).
 ///
+/// Whole-body ZMP rows (optional, the com-plan pass's final stage): at every frame with a support,
+/// each half-plane nᵀp ≤ d that the motion's multibody ZMP p violates (centroidal.hpp: the
+/// metric's own finite differences at `fps`) is a one-sided row n ᵀp − d. p depends on frames f − 1,
+/// f, f + 1 through the COM's second difference and the angular momentum rate; its Jacobian holds
+/// c_z / (g + c̈_z) fixed and takes L̇ ≈ A_L(q_f) (δ_f+1 − 2 δ_f + δ_f−1) fps² (A_L the centroidal
+/// angular momentum matrix), which keeps the normal equations block pentadiagonal; the cost is the
+/// exact one, so the backtracking judges every step by the real ZMP. These rows move every
+/// coordinate (the COM depends on all of them).
+///
 /// Gauss–Newton: the rows are linearised at the current Δ, and the normal equations — block
 /// pentadiagonal over frames, each block over the coordinates any row can move (the root, the legs,
 /// and the chains of links that touched the floor) — are solved by a block banded Cholesky in
@@ -24,6 +33,7 @@
 #include <array>
 #include <vector>
 
+#include "retarget/balance/support_polygon.hpp"
 #include "retarget/model/robot_data.hpp"
 #include "src/refine/foot_plan.hpp"
 
@@ -44,6 +54,11 @@ struct CorrectionOptions {
   std::vector<MatX> metric;     ///< M_f per frame over metric_dofs (empty: none)
   std::array<Mat3, 2> R_L_sole{{Mat3::Identity(), Mat3::Identity()}};
   int iterations = 8;           ///< Gauss–Newton steps at most (it stops earlier once the steps are below 1e-6)
+  /// ZMP rows: per frame the half-planes the multibody ZMP must satisfy (empty vector: none at that
+  /// frame; an empty list: no ZMP rows at all), their weight [1/m²] and the motion's rate [Hz].
+  std::vector<std::vector<HalfPlane>> zmp_support;
+  double zmp_weight = 1e4;
+  double fps = 0;
 };
 
 struct CorrectionReport {
@@ -51,6 +66,8 @@ struct CorrectionReport {
   int evaluations = 0;          ///< cost evaluations (each a pass over the clip's kinematics)
   int coordinates = 0;          ///< n of the blocks in the last step
   double max_step = 0;          ///< largest |δ| of the last step
+  int zmp_rows = 0;             ///< ZMP rows still violated at the end
+  double zmp_excess_max = 0;    ///< [m] largest of their residuals
 };
 
 /// q_base ⊕ Δ (nq x T) for the plan, Gauss–Newton started from `q_start` (nq x T; typically the

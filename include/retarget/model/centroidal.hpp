@@ -26,6 +26,11 @@ struct CentroidalMomentum {
 /// Centroidal momentum at (q, v) (mj_comVel + mj_subtreeVel on the root body). Updates `data`.
 CentroidalMomentum centroidal_momentum(const RobotModel& model, RobotData& data, const VecXCRef& q, const VecXCRef& v);
 
+/// 3 x nv centroidal angular momentum matrix A_L(q): L = A_L v, the angular momentum about the COM
+/// (world axes) of the generalised velocity v, summed over the bodies: m_b (x_b − c) × J_b + I_b,W J_ω,b
+/// (J_b, J_ω,b the Jacobians of body b's centre of mass and rotation). Needs update_kinematics at q.
+MatX centroidal_angular_matrix(const RobotModel& model, const RobotData& data);
+
 /// Multibody ZMP of a sampled motion: per frame, COM and ZMP from finite differences of the
 /// configurations q (nq x T, uniform rate fps): v by central differences of q, c̈ by second
 /// differences of the COM, L̇ by central differences of L. Frames 0 and T − 1 (and every frame when

@@ -49,6 +49,14 @@ struct ComPlanPassOptions {
   double velocity_margin = 0.02;       ///< fraction of each URDF velocity limit the frame-to-frame bounds keep free
   double foot_tolerance_m = 0.002;     ///< [m] a round whose IK moves a held sole further is dropped
   double follow_tolerance_m = 0.001;   ///< [m] frames whose COM misses the plan by more are reported
+  /// Whole-body stage (5): Gauss–Newton iterations of the smooth joint-space correction with the
+  /// multibody ZMP rows, on the export grid (0: off).
+  int whole_body_iterations = 20;
+  double whole_body_zmp_weight = 1e4;    ///< [1/m²] weight of a ZMP half-plane row
+  double whole_body_smoothing_hz = 1.0;  ///< [Hz] cutoff of the correction's smoothness term
+  /// [Hz] the export rate (the resample pass's; `--fps` sets both): the whole-body stage works on
+  /// that grid, where the exported motion's ZMP is measured by finite differences.
+  double export_fps = 30.0;
 };
 
 class ComPlanPass final : public Pass {

@@ -69,6 +69,22 @@ TEST(Centroidal, AngularMomentumEqualsTheSumOverLinks) {
   EXPECT_LT((c.angular_com_W - L).norm(), 1e-5 * std::max(1.0, L.norm())) << c.angular_com_W.transpose() << " vs " << L.transpose();
 }
 
+// L = A_L(q) v for any v: the matrix against centroidal_momentum's angular part.
+TEST(Centroidal, AngularMatrixTimesVelocityIsTheAngularMomentum) {
+  const RobotModel& model = test::cached_robot("g1");
+  RobotData data(model);
+  const double t = 1.3, h = 1e-6;
+  const VecX q = pose_at(model, t);
+  const VecX v = difference(model, pose_at(model, t - h), pose_at(model, t + h), 2 * h);
+  const CentroidalMomentum c = centroidal_momentum(model, data, q, v);
+  update_kinematics(model, data, q);
+  const MatX A = centroidal_angular_matrix(model, data);
+  ASSERT_EQ(A.rows(), 3);
+  ASSERT_EQ(A.cols(), model.nv());
+  EXPECT_LT((A * v - c.angular_com_W).norm(), 1e-9 * std::max(1.0, c.angular_com_W.norm()))
+      << (A * v).transpose() << " vs " << c.angular_com_W.transpose();
+}
+
 TEST(Centroidal, StandingStillHasItsZmpUnderTheCom) {
   const RobotModel& model = test::cached_robot("g1");
   RobotData data(model);
