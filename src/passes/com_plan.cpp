@@ -474,6 +474,9 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
       }
       return s;
     };
+    // The ZMP rows' Jacobians are large (c_z fps² / g ≈ 60 at 30 fps): the stance rows are firmer
+    // than refine's so the soles win.
+    co.stance_weight = 1e8;
     co.swing_weight = 1e4;
     co.q_lower = model.q_lower().array() + 1e-4;
     co.q_upper = model.q_upper().array() - 1e-4;
@@ -501,17 +504,17 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
       for (int i = 0; i < model.nu(); ++i) q1(7 + i, f) = std::clamp(q1(7 + i, f), model.q_lower()[i], model.q_upper()[i]);
     }
     // Between export frames the interpolated correction holds a stance sole only approximately
-    // (and not at all after a jump of the correction): those source frames have their legs projected
-    // back onto the held soles (root and upper body as they are). Then the soles are checked on
-    // every source frame the export spans (frames after its last sample are not exported).
+    // (and not at all where the correction turns fast): those source frames are projected back onto
+    // the held soles by the smallest change (root and legs; each joint within ±0.05 rad). Then the
+    // soles are checked on every source frame the export spans (frames after its last sample are
+    // not exported).
     {
       IkOptions po;
       po.max_iterations = 20;
       po.regularization = 1e-6;
       po.step_tolerance = 1e-10;
       po.cost_tolerance = 1e-12;
-      po.root_free = {false, false, false, false, false, false};
-      const LandmarkIk leg_ik(model, po);
+      const LandmarkIk hold_ik(model, po);
       std::vector<IkTarget> held;
       for (int f = 0; f < T; ++f) {
         update_kinematics(model, data, q1.col(f));
@@ -529,18 +532,17 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
         step.lower = (q1.col(f).tail(model.nu()).array() - 0.05).cwiseMax(model.q_lower().array());
         step.upper = (q1.col(f).tail(model.nu()).array() + 0.05).cwiseMin(model.q_upper().array());
         VecX q = q1.col(f);
-        leg_ik.solve(data, held, q1.col(f), q, {}, {}, &step);
+        hold_ik.solve(data, held, q1.col(f), q, {}, {}, &step);
         q1.col(f) = q;
       }
     }
     // The correction's speed rows hold the export grid; between its frames the source motion's own
     // speed adds to the correction's slope, so the joints are rate-limited at the source rate
-    // (forward, then backward: a step beyond the limit is cut, the excess moved to the neighbours).
+    // (a step beyond the limit is cut; the joint rejoins its trajectory as fast as the limit allows).
     for (int i = 0; i < model.nu(); ++i) {
       if (!(v_max[i] > 0)) continue;
       const double step = (1 - options_.velocity_margin) * v_max[i] / fps;
       for (int f = 1; f < T; ++f) q1(7 + i, f) = std::clamp(q1(7 + i, f), q1(7 + i, f - 1) - step, q1(7 + i, f - 1) + step);
-      for (int f = T - 2; f >= 0; --f) q1(7 + i, f) = std::clamp(q1(7 + i, f), q1(7 + i, f + 1) - step, q1(7 + i, f + 1) + step);
     }
     double sole_move = 0;
     for (int f = 0; f < T && f / fps <= (K_out - 1) / fo + 1e-9; ++f) {

@@ -20,6 +20,15 @@
 ///     `iterations` times. The round with the fewest stance frames outside is kept, if it holds
 ///     the soles to `foot_tolerance` and beats the retargeted motion; otherwise the motion is
 ///     left as it was (with a warning).
+///  5. Whole-body stage, on the export grid (`fps`, the resample pass's rate, which `--fps` sets):
+///     the angular-momentum part that the rounds only predict (each round's IK changes it) is
+///     removed by refine's smooth joint-space correction with one-sided multibody ZMP rows
+///     (src/refine/smooth_correction.hpp): the smallest smooth change whose ZMP, by the exported
+///     frames' own finite differences, lies inside the shrunk support, stance soles held, swing
+///     soles on their paths, floor, limits and speed limits kept. The correction is smooth, so it
+///     is carried to the source rate by linear interpolation; joints are then rate-limited, and
+///     source frames whose stance soles the interpolation moved are projected back (smallest
+///     change). Kept if the export grid's ZMP improves and the soles hold to `foot_tolerance`.
 ///
 /// The planned COM (3 x T: plan x, y; the low-passed height) and the plan's ZMP go to the
 /// reference (meta.json and NPZ `com_pos_w`, `cop_ref_w`) as the balance reference.

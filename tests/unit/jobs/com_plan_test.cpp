@@ -53,9 +53,9 @@ TEST(ComPlanPass, LeavesAStandingClipWhereItWas) {
   EXPECT_EQ(b.cop_W.cols(), b.num_frames());
 }
 
-// Regression bars at what the pass reaches today on CMU 131_01 (G1), not the acceptance bar
-// (98 % / 95 %): before the plan 33 % of stance frames have their ZMP within 1 cm of the support
-// (2 % in single support), after it 86 % (80 %).
+// CMU 131_01 (G1): before the plan 33 % of stance frames have their ZMP within 1 cm of the support
+// (2 % in single support); after the rounds 87 % (82 %), after the whole-body stage 100 % (100 %).
+// The bars are the (98 % / 95 %).
 TEST(ComPlanPass, MovesTheZmpOfARealWalkIntoTheSupport) {
   RT_REQUIRE_SHARED(clip, "bvh/cmu_max_131_01_start_walk_stop.bvh");
   const std::unique_ptr<RobotModel> model = RobotModel::load("g1");
@@ -63,8 +63,8 @@ TEST(ComPlanPass, MovesTheZmpOfARealWalkIntoTheSupport) {
   const QualityMetrics &before = plain.quality, &after = planned.quality;
   ASSERT_GT(after.zmp_stance_frames, 200);
   EXPECT_LT(before.zmp_near_fraction, 0.5);
-  EXPECT_GT(after.zmp_near_fraction, 0.8);
-  EXPECT_GT(after.zmp_single_near_fraction, 0.75);
+  EXPECT_GT(after.zmp_near_fraction, 0.98);
+  EXPECT_GT(after.zmp_single_near_fraction, 0.95);
   EXPECT_EQ(after.swing_frames_low, 0);
   EXPECT_GT(after.zmp_single_near_fraction, before.zmp_single_near_fraction + 0.4);
   // The stance feet stay fixed, the limits hold, the landmarks stay close.
@@ -77,6 +77,8 @@ TEST(ComPlanPass, MovesTheZmpOfARealWalkIntoTheSupport) {
   ASSERT_NE(pass, nullptr);
   EXPECT_LT(pass->statistics.get("zmp-outside-after"), pass->statistics.get("zmp-outside-before"));
   EXPECT_GT(pass->statistics.get("max-com-shift"), 0.01);
+  // The whole-body stage ran on the export grid and left fewer frames outside than it found.
+  EXPECT_LT(pass->statistics.get("whole-body-zmp", 1e9), 10);
 }
 
 // The optical C3D gait (BTK mocap36): 38 % (10 %) before, 98 % (97 %) after.
