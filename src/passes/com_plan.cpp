@@ -408,6 +408,8 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
   // correction is smooth (whole_body_smoothing_hz), so it is carried to the source rate by linear
   // interpolation; the stage is kept if the export grid's ZMP improves and the soles stay held.
   refine::CorrectionReport whole_body;
+  bool exported_scored = false;  // the export grid's score of the result (`exported`) is known
+  Score exported;
   const int K_out = static_cast<int>(std::floor((T - 1) / fps * options_.export_fps + 1e-9)) + 1;
   if (options_.whole_body_iterations > 0 && K_out >= 4) {
     const double fo = options_.export_fps;
@@ -555,6 +557,8 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
     const MultibodyZmp z0o = multibody_zmp(model, data, q0o, fo), z1o = multibody_zmp(model, data, to_export_grid(q1), fo);
     const Score before_o = score_o(z0o.zmp_W), after_o = score_o(z1o.zmp_W);
     const bool kept = sole_move <= options_.foot_tolerance_m && after_o.better_than(before_o);
+    exported_scored = true;
+    exported = kept ? after_o : before_o;
     if (kept) {
       best_follow.q = q1;
       const MultibodyZmp z1 = multibody_zmp(model, data, q1, fps);
@@ -580,10 +584,14 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
   if (rounds_dropping_soles > 0)
     ctx.diagnostics.warn(where, format("com-plan: %d round(s) dropped: following the plan would have moved a held sole by more "
                                        "than %.1f mm", rounds_dropping_soles, 1e3 * options_.foot_tolerance_m));
-  if (!best.better_than(before))
+  if ((motion.q - q_in).cwiseAbs().maxCoeff() == 0)
     ctx.diagnostics.warn(where, "com-plan: no plan moved the ZMP into the support on more frames with the soles held; the "
                                 "motion is left as it was");
-  if (best.outside > 0)
+  if (exported_scored && exported.outside > 0)
+    ctx.diagnostics.warn(where, format("com-plan: the multibody ZMP stays more than 1 cm outside the support on %d of the exported "
+                                       "stance frames (worst %.1f cm); the motion may be beyond this robot's balance",
+                                       exported.outside, 100 * exported.worst_m));
+  else if (!exported_scored && best.outside > 0)
     ctx.diagnostics.warn(where, format("com-plan: the multibody ZMP stays outside the support on %d of the stance frames "
                                        "(worst %.1f cm); the motion may be beyond this robot's balance",
                                        best.outside, 100 * best.worst_m));
@@ -597,7 +605,7 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
   int stance_frames = 0;
   for (int f = 1; f + 1 < T; ++f) stance_frames += !frames.polygon[static_cast<std::size_t>(f)].empty();
   ctx.statistics.set("zmp-outside-before", before.outside, "frames", format("of %d stance frames, worst %.3f m", stance_frames, before.worst_m));
-  ctx.statistics.set("zmp-outside-after", best.outside, "frames", format("stance frames, worst %.3f m", best.worst_m));
+  ctx.statistics.set("zmp-outside-after", best.outside, "frames", format("stance frames at the source rate, worst %.3f m", best.worst_m));
   ctx.statistics.set("rounds", rounds, "", format("multibody correction rounds (%d QP active-set iterations); frames outside per round: %s", qp_iterations, round_outside.c_str()));
   ctx.statistics.set("frames-not-followed", best_follow.missed_frames, "frames",
                      format("|COM - plan| > %.3f m (worst %.3f m)", options_.follow_tolerance_m, best_follow.max_miss_m));
