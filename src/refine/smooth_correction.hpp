@@ -18,7 +18,7 @@
 ///
 /// Whole-body ZMP rows (optional, the com-plan pass's final stage): at every frame with a support,
 /// each half-plane nᵀp ≤ d that the motion's multibody ZMP p violates (centroidal.hpp: the
-/// metric's own finite differences at `fps`) is a one-sided row n ᵀp − d. p depends on frames f − 1,
+/// metric's own finite differences at `fps`) is a one-sided row nᵀp − d. p depends on frames f − 1,
 /// f, f + 1 through the COM's second difference and the angular momentum rate; its Jacobian holds
 /// c_z / (g + c̈_z) fixed and takes L̇ ≈ A_L(q_f) (δ_f+1 − 2 δ_f + δ_f−1) fps² (A_L the centroidal
 /// angular momentum matrix), which keeps the normal equations block pentadiagonal; the cost is the
