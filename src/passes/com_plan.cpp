@@ -78,6 +78,26 @@ struct Frames {
   std::vector<SupportPolygon> polygon;         ///< unshrunk support per frame (empty: flight)
 };
 
+// Stance frames (those with a polygon; the first and last frame left out, as in the metric) whose
+// ZMP lies more than `tolerance_m` outside their support polygon, and the worst distance outside.
+struct Score {
+  int outside = 0;
+  double worst_m = 0;
+  bool better_than(const Score& o) const { return outside < o.outside || (outside == o.outside && worst_m < o.worst_m); }
+};
+Score score_zmp(const std::vector<SupportPolygon>& polygons, const Eigen::Matrix2Xd& zmp, double tolerance_m) {
+  Score s;
+  const int T = static_cast<int>(polygons.size());
+  for (int f = 1; f + 1 < T; ++f) {
+    const SupportPolygon& p = polygons[static_cast<std::size_t>(f)];
+    if (p.empty()) continue;
+    const double d = p.signed_distance(zmp.col(f));
+    s.outside += d > tolerance_m;
+    s.worst_m = std::max(s.worst_m, d);
+  }
+  return s;
+}
+
 }  // namespace
 
 ComPlanPass::ComPlanPass() {
@@ -330,23 +350,7 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
     return out;
   };
 
-  // ZMP outside the unshrunk support, over stance frames (the metric's frames).
-  struct Score {
-    int outside = 0;
-    double worst_m = 0;
-    bool better_than(const Score& o) const { return outside < o.outside || (outside == o.outside && worst_m < o.worst_m); }
-  };
-  auto score = [&](const Eigen::Matrix2Xd& zmp) {
-    Score s;
-    for (int f = 1; f + 1 < T; ++f) {
-      const SupportPolygon& p = frames.polygon[static_cast<std::size_t>(f)];
-      if (p.empty()) continue;
-      const double d = p.signed_distance(zmp.col(f));
-      s.outside += d > 0;
-      s.worst_m = std::max(s.worst_m, d);
-    }
-    return s;
-  };
+  auto score = [&](const Eigen::Matrix2Xd& zmp) { return score_zmp(frames.polygon, zmp, 0.0); };
   const Score before = score(original.zmp_W);
 
   Score best = before;
@@ -465,17 +469,7 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
       polygon_o[static_cast<std::size_t>(k)] = stance_support_polygon(model, data, down);
       co.zmp_support[static_cast<std::size_t>(k)] = polygon_o[static_cast<std::size_t>(k)].half_planes(options_.margin_m);
     }
-    auto score_o = [&](const Eigen::Matrix2Xd& zmp) {
-      Score s;
-      for (int k = 1; k + 1 < K_out; ++k) {
-        const SupportPolygon& p = polygon_o[static_cast<std::size_t>(k)];
-        if (p.empty()) continue;
-        const double d = p.signed_distance(zmp.col(k));
-        s.outside += d > 0.01;  // the metric's "within 1 cm"
-        s.worst_m = std::max(s.worst_m, d);
-      }
-      return s;
-    };
+    auto score_o = [&](const Eigen::Matrix2Xd& zmp) { return score_zmp(polygon_o, zmp, 0.01); };  // the metric's "within 1 cm"
     // The ZMP rows' Jacobians are large (c_z fps² / g ≈ 60 at 30 fps): the stance rows are firmer
     // than refine's so the soles win.
     co.stance_weight = 1e8;
@@ -484,12 +478,7 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
     co.q_upper = model.q_upper().array() - 1e-4;
     co.max_step = (1 - options_.velocity_margin) * v_max / fo;
     co.lambda = refine::smoothing_lambda(options_.whole_body_smoothing_hz, fo);
-    // Who moves: the legs first, the root and the rest of the body 100 and 30 times stiffer (refine's rule).
-    co.stiffness = VecX::Constant(model.nv(), 30.0);
-    co.stiffness.head<3>().setConstant(100.0);
-    for (const Sole& sole : model.soles())
-      for (int d : link_dof_chain(model, sole.link))
-        if (d >= 6) co.stiffness[d] = 1.0;
+    co.stiffness = refine::legs_first_stiffness(model);  // who moves: the legs first (refine's rule)
     co.R_L_sole = R_L_sole;
     co.iterations = options_.whole_body_iterations;
     co.zmp_weight = options_.whole_body_zmp_weight;

@@ -262,15 +262,11 @@ void RefinePass::run(Clip& clip, PassContext& ctx) {
 
   // Who absorbs a foot's correction: the legs; the root and the rest of the body (whose landmarks
   // the smoothed motion tracks) are 30-100 times stiffer.
-  VecX stiffness = VecX::Constant(model.nv(), 30.0);
-  stiffness.head<3>().setConstant(100.0);
+  const VecX stiffness = refine::legs_first_stiffness(model);
   std::vector<int> metric_dofs{0, 1, 2, 3, 4, 5};
   for (int foot = 0; foot < 2; ++foot)
     for (int d : link_dof_chain(model, model.soles()[static_cast<std::size_t>(foot)].link))
-      if (d >= 6) {
-        stiffness[d] = 1.0;
-        metric_dofs.push_back(d);
-      }
+      if (d >= 6) metric_dofs.push_back(d);
   const double stance_length = 0.1, swing_length = 0.02;  // [m] orientation rows: w · length²
 
   refine::CorrectionOptions co;

@@ -77,6 +77,15 @@ bool solve_block_pentadiagonal(std::vector<MatX> D, std::vector<MatX> E, std::ve
   return true;
 }
 
+VecX legs_first_stiffness(const RobotModel& model) {
+  VecX stiffness = VecX::Constant(model.nv(), 30.0);
+  stiffness.head<3>().setConstant(100.0);
+  for (const Sole& sole : model.soles())
+    for (int d : link_dof_chain(model, sole.link))
+      if (d >= 6) stiffness[d] = 1.0;
+  return stiffness;
+}
+
 MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const MatX& q_base, const MatX& q_start,
                              const FootPlan& plan, const CorrectionOptions& o, CorrectionReport* report) {
   const int T = static_cast<int>(q_base.cols()), nv = model.nv();

@@ -70,6 +70,11 @@ struct CorrectionReport {
   double zmp_excess_max = 0;    ///< [m] largest of their residuals
 };
 
+/// ρ that lets the legs absorb a correction: 1 on the joints of the chains to the soles, 30 on the
+/// rest of the body and the root's rotation, 100 on the root's translation (whose landmarks the
+/// smoothed motion tracks).
+VecX legs_first_stiffness(const RobotModel& model);
+
 /// q_base ⊕ Δ (nq x T) for the plan, Gauss–Newton started from `q_start` (nq x T; typically the
 /// per-frame solutions of the same rows, so that only smoothness is left to find). `data` is scratch.
 MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const MatX& q_base, const MatX& q_start,

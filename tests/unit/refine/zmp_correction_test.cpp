@@ -80,11 +80,7 @@ CorrectionOptions options_for(const RobotModel& model, const SingleSupport& s, d
   co.q_lower = model.q_lower().array() + 1e-4;
   co.q_upper = model.q_upper().array() - 1e-4;
   co.lambda = 1e3;
-  co.stiffness = VecX::Constant(model.nv(), 30.0);
-  co.stiffness.head<3>().setConstant(100.0);
-  for (const Sole& sole : model.soles())
-    for (int d : link_dof_chain(model, sole.link))
-      if (d >= 6) co.stiffness[d] = 1.0;
+  co.stiffness = legs_first_stiffness(model);
   RobotData data(model);
   co.R_L_sole = sole_frames_in_links(model, data);
   co.iterations = 30;
