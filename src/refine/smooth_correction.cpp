@@ -38,42 +38,34 @@ Vec3 rotation_log(const Mat3& R) {
 
 }  // namespace
 
-bool solve_block_pentadiagonal(std::vector<MatX> D, std::vector<MatX> E, std::vector<MatX> F, std::vector<VecX>& b) {
+bool solve_block_pentadiagonal(std::vector<MatX>& D, std::vector<MatX>& E, std::vector<MatX>& F, std::vector<VecX>& b) {
   const std::size_t T = D.size();
-  if (T == 0) return true;
-  const Eigen::Index n = D[0].rows();
-  // L blocks: Ld[f] = L(f, f) lower triangular, L1[f] = L(f, f−1), L2[f] = L(f, f−2).
-  std::vector<MatX> Ld(T), L1(T), L2(T);
-  auto times_inverse_transpose = [](const MatX& X, const MatX& L) -> MatX {  // X L⁻ᵀ
-    return L.triangularView<Eigen::Lower>().solve(X.transpose()).transpose();
-  };
+  // Block Cholesky A = L Lᵀ in place, without allocating (this runs once per Gauss–Newton step on
+  // thousands of frames): D[f] ← L(f, f) (lower triangle), E[f−1] ← L(f, f−1), F[f−2] ← L(f, f−2).
   for (std::size_t f = 0; f < T; ++f) {
-    MatX S = D[f];
+    MatX& S = D[f];
     if (f >= 2) {
-      L2[f] = times_inverse_transpose(F[f - 2], Ld[f - 2]);
-      S.noalias() -= L2[f] * L2[f].transpose();
+      D[f - 2].transpose().triangularView<Eigen::Upper>().solveInPlace<Eigen::OnTheRight>(F[f - 2]);
+      S.selfadjointView<Eigen::Lower>().rankUpdate(F[f - 2], -1.0);
     }
     if (f >= 1) {
-      MatX A = E[f - 1];
-      if (f >= 2) A.noalias() -= L2[f] * L1[f - 1].transpose();
-      L1[f] = times_inverse_transpose(A, Ld[f - 1]);
-      S.noalias() -= L1[f] * L1[f].transpose();
+      if (f >= 2) E[f - 1].noalias() -= F[f - 2] * E[f - 2].transpose();
+      D[f - 1].transpose().triangularView<Eigen::Upper>().solveInPlace<Eigen::OnTheRight>(E[f - 1]);
+      S.selfadjointView<Eigen::Lower>().rankUpdate(E[f - 1], -1.0);
     }
-    Eigen::LLT<MatX> llt(S);
+    Eigen::LLT<Eigen::Ref<MatX>> llt(S);  // in place: S's lower triangle becomes L(f, f)
     if (llt.info() != Eigen::Success) return false;
-    Ld[f] = llt.matrixL();
   }
   for (std::size_t f = 0; f < T; ++f) {  // L y = b
-    if (f >= 1) b[f].noalias() -= L1[f] * b[f - 1];
-    if (f >= 2) b[f].noalias() -= L2[f] * b[f - 2];
-    Ld[f].triangularView<Eigen::Lower>().solveInPlace(b[f]);
+    if (f >= 1) b[f].noalias() -= E[f - 1] * b[f - 1];
+    if (f >= 2) b[f].noalias() -= F[f - 2] * b[f - 2];
+    D[f].triangularView<Eigen::Lower>().solveInPlace(b[f]);
   }
   for (std::size_t f = T; f-- > 0;) {  // Lᵀ x = y
-    if (f + 1 < T) b[f].noalias() -= L1[f + 1].transpose() * b[f + 1];
-    if (f + 2 < T) b[f].noalias() -= L2[f + 2].transpose() * b[f + 2];
-    Ld[f].transpose().triangularView<Eigen::Upper>().solveInPlace(b[f]);
+    if (f + 1 < T) b[f].noalias() -= E[f].transpose() * b[f + 1];
+    if (f + 2 < T) b[f].noalias() -= F[f].transpose() * b[f + 2];
+    D[f].triangularView<Eigen::Lower>().transpose().solveInPlace(b[f]);
   }
-  (void)n;
   return true;
 }
 
@@ -281,6 +273,8 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
   std::vector<SpeedRow> speed, speed_try;
   std::vector<ZmpRow> zmp, zmp_try;
   double cost = evaluate(Delta, rows, used, speed, zmp);
+  std::vector<MatX> Dblk, Eblk, Fblk;  // the normal equations' blocks (see solve_block_pentadiagonal)
+  std::vector<VecX> b;
   for (int it = 0; it < o.iterations; ++it) {
     std::vector<int> vars, index(static_cast<std::size_t>(nv), -1);
     for (int d = 0; d < nv; ++d)
@@ -296,8 +290,16 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
     }
 
     // Normal equations: H = Σ w JᵀJ + ρ + λ ρ DᵀD, g = Σ w Jᵀ r + ρ Δ + λ ρ DᵀD Δ.
-    std::vector<MatX> Dblk(static_cast<std::size_t>(T), MatX::Zero(n, n)), Eblk, Fblk;
-    std::vector<VecX> b(static_cast<std::size_t>(T), VecX::Zero(n));
+    // The blocks' storage is reused across iterations (tens of MB on a long clip).
+    auto zero_blocks = [n](std::vector<MatX>& blocks, int count) {
+      blocks.resize(static_cast<std::size_t>(std::max(0, count)));
+      for (MatX& B : blocks) B.setZero(n, n);
+    };
+    zero_blocks(Dblk, T);
+    zero_blocks(Eblk, T - 1);
+    zero_blocks(Fblk, T - 2);
+    b.resize(static_cast<std::size_t>(T));
+    for (VecX& v : b) v.setZero(n);
     auto dd = [&](int f, int g) {  // (DᵀD)(f, g) of the second-difference operator over T frames
       double s = 0;
       for (int k = std::max(1, std::max(f, g) - 1); k <= std::min(T - 2, std::min(f, g) + 1); ++k) {
@@ -348,8 +350,6 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
       }
       g = -g;
     }
-    Eblk.assign(static_cast<std::size_t>(std::max(0, T - 1)), MatX::Zero(n, n));
-    Fblk.assign(static_cast<std::size_t>(std::max(0, T - 2)), MatX::Zero(n, n));
     if (o.lambda > 0) {
       for (int f = 0; f + 1 < T; ++f) Eblk[static_cast<std::size_t>(f)].diagonal() = o.lambda * dd(f + 1, f) * sig;
       for (int f = 0; f + 2 < T; ++f) Fblk[static_cast<std::size_t>(f)].diagonal() = o.lambda * dd(f + 2, f) * sig;
@@ -391,16 +391,14 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
           const auto fk1 = static_cast<std::size_t>(f - 1 + k1);
           b[fk1].noalias() -= w * z.residual * G[static_cast<std::size_t>(k1)];
           for (int k2 = 0; k2 <= k1; ++k2) {
-            const MatX outer = w * G[static_cast<std::size_t>(k1)] * G[static_cast<std::size_t>(k2)].transpose();
             const auto fk2 = static_cast<std::size_t>(f - 1 + k2);
-            if (k1 == k2) Dblk[fk1] += outer;
-            else if (k1 == k2 + 1) Eblk[fk2] += outer;
-            else Fblk[fk2] += outer;
+            MatX& block = k1 == k2 ? Dblk[fk1] : (k1 == k2 + 1 ? Eblk[fk2] : Fblk[fk2]);
+            block.noalias() += w * G[static_cast<std::size_t>(k1)] * G[static_cast<std::size_t>(k2)].transpose();
           }
         }
       }
     }
-    if (!solve_block_pentadiagonal(std::move(Dblk), std::move(Eblk), std::move(Fblk), b)) break;
+    if (!solve_block_pentadiagonal(Dblk, Eblk, Fblk, b)) break;
     // Backtracking on the cost: the one-sided rows change their active set between steps.
     double alpha = 1, step = 0;
     bool accepted = false;

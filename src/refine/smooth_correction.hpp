@@ -81,8 +81,9 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
                              const FootPlan& plan, const CorrectionOptions& options, CorrectionReport* report = nullptr);
 
 /// Solves the symmetric positive definite block pentadiagonal system A x = b in place (b → x):
-/// diagonal blocks D[f] (n x n), first off-diagonal blocks E[f] = A(f+1, f), second F[f] = A(f+2, f).
-/// Returns false when A is not positive definite.
-bool solve_block_pentadiagonal(std::vector<MatX> D, std::vector<MatX> E, std::vector<MatX> F, std::vector<VecX>& b);
+/// diagonal blocks D[f] (n x n, lower triangle read), first off-diagonal blocks E[f] = A(f+1, f),
+/// second F[f] = A(f+2, f). D, E and F are overwritten by the Cholesky factor's blocks (no
+/// allocation). Returns false when A is not positive definite.
+bool solve_block_pentadiagonal(std::vector<MatX>& D, std::vector<MatX>& E, std::vector<MatX>& F, std::vector<VecX>& b);
 
 }  // namespace rt::refine
