@@ -178,9 +178,11 @@ void TrackingController::build(RobotData& data, const VecXCRef& q, const VecXCRe
     p.J_feet.middleRows(6 * foot + 3, 3) = jr_t.transpose();
     p.Jdot_v_feet.segment<6>(6 * foot) = link_jdot_v(model, data, sole.link, sole.p_L_center);
     const Iso3& X_ref = ref.X_W_sole[static_cast<std::size_t>(foot)];
+    // The reference is the sole frame; the link's own axes may point anywhere (DH-style frames).
+    const Mat3 R_W_sole = X_W_link.linear() * sole.R_L_S;
     Vec6 err;
     err.head<3>() = X_ref.translation() - p_W_sole;
-    err.tail<3>() = rotation_error(X_ref.linear(), X_W_link.linear());
+    err.tail<3>() = rotation_error(X_ref.linear(), R_W_sole);
     const Vec6 v_now = p.J_feet.middleRows<6>(6 * foot) * v;
     const Vec6 rdd = ref.a_sole[static_cast<std::size_t>(foot)] +
                      options_.foot_kd * (ref.v_sole[static_cast<std::size_t>(foot)] - v_now) + options_.foot_kp * err;
@@ -190,9 +192,9 @@ void TrackingController::build(RobotData& data, const VecXCRef& q, const VecXCRe
       p.contact_feet.push_back(foot);
       p.r_contact_W.push_back(p_W_sole);
       // The floor is horizontal: limits act along W's vertical, with the sole rectangle turned by
-      // the foot's heading (a tilted foot's own axes would tilt the friction cone).
-      const Vec3 x_link = X_W_link.linear().col(0);
-      p.R_contact_W.push_back(AngleAxis(std::atan2(x_link.y(), x_link.x()), Vec3::UnitZ()).toRotationMatrix());
+      // the sole's heading (a tilted foot's own axes would tilt the friction cone).
+      const Vec3 x_sole = R_W_sole.col(0);
+      p.R_contact_W.push_back(AngleAxis(std::atan2(x_sole.y(), x_sole.x()), Vec3::UnitZ()).toRotationMatrix());
     }
   }
   // The foot Jacobians are zero outside the dofs of the legs' chains (feet_dofs_): products with

@@ -74,7 +74,7 @@ Reference walk_reference(const RobotModel& model, const WalkOptions& o) {
     const Sole& sole = model.soles()[static_cast<std::size_t>(f)];
     const Iso3 X = link_pose(model, data, sole.link);
     sole0[static_cast<std::size_t>(f)] = Iso3::Identity();
-    sole0[static_cast<std::size_t>(f)].linear() = X.linear();
+    sole0[static_cast<std::size_t>(f)].linear() = X.linear() * sole.R_L_S;  // the sole's axes, not the link's
     sole0[static_cast<std::size_t>(f)].translation() = X * sole.p_L_center;
   }
   struct Step {

@@ -54,14 +54,10 @@ NlpRobot::NlpRobot(const RobotModel& robot_model, double limit_margin) : model(&
   }
   for (int i = 0; i < nv; ++i) pattern[static_cast<std::size_t>(i * nv + i)] = 1;
 
-  // Sole normals: at the zero configuration every foot frame is world aligned (robot.yaml convention).
-  RobotData data(robot_model);
-  VecX q0 = VecX::Zero(robot_model.nq());
-  q0[3] = 1;
-  update_kinematics(robot_model, data, q0);
+  // Sole normals in their links, from the soles' frames (a link's own axes may point anywhere:
+  // DH-style frames).
   for (int foot = 0; foot < 2; ++foot)
-    n_L_sole[static_cast<std::size_t>(foot)] =
-        link_pose(robot_model, data, robot_model.soles()[static_cast<std::size_t>(foot)].link).linear().transpose() * Vec3::UnitZ();
+    n_L_sole[static_cast<std::size_t>(foot)] = robot_model.soles()[static_cast<std::size_t>(foot)].R_L_S.col(2);
 
   const int nu = robot_model.nu();
   lower = VecX::Constant(nv, -kInf);

@@ -4,6 +4,9 @@
 // cannot hold a foot up: its COM cannot be brought over a sole with the other foot lifted
 // (single_support_reach.hpp), and the check fails its foot lift and slow steps with a fall, as it
 // must; the sanity warning and the verdict agree, and the validate job names that reason. Skips cleanly without ../shared/data.
+// The odd biped of tests/data (root facing backwards, z-down foot frames, so its soles are turned
+// against their links) stands in the check; before the tracking controller took the foot task's
+// orientation from the sole frame it fell at 0.16 s.
 
 #include <gtest/gtest.h>
 
@@ -68,6 +71,30 @@ TEST_P(InitRobotCheck, ExampleClipsThroughTheCheck) {
       EXPECT_FALSE(r.passed) << g.robot << " " << clip;
       EXPECT_TRUE(r.fell) << g.robot << " " << clip << ": " << failing(r);
       EXPECT_TRUE(explained) << g.robot << " " << clip;
+    }
+  }
+}
+
+TEST(InitRobotCheckOddFrames, ZDownFootFramesStandAndCannotLiftAFoot) {
+  InitRobotOptions options;
+  options.urdf_path = test::source_path("tests/data/urdf/odd_biped/odd_biped.urdf");
+  const std::string yaml = test::scratch_dir() + "/robot.yaml";
+  write_file_atomic(yaml, guess_robot_config(options).yaml);
+  const auto model = RobotModel::load(yaml);
+  ASSERT_FALSE(model->soles()[0].R_L_S.isApprox(Mat3::Identity(), 1e-6));  // the case under test
+  for (const char* clip : {"stand", "foot_lift"}) {
+    ConvertRequest request;
+    request.clip_path = test::source_path(std::string("examples/clips/") + clip + ".bvh");
+    request.write_outputs = false;
+    const ConvertResult converted = run_convert(request, *model);
+    ValidateRequest check;
+    check.check = default_check_options(*model);
+    const DynamicsCheckResult r = validate_reference(converted.clip.reference, *model, check).check;
+    if (std::string(clip) == "stand") {
+      EXPECT_TRUE(r.passed) << failing(r);
+      EXPECT_NEAR(r.simulated_s, r.clip_duration_s, 0.01);
+    } else {  // negative control: three pitch joints per leg and no roll, the COM cannot get over a sole
+      EXPECT_FALSE(r.passed);
     }
   }
 }
