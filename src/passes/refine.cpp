@@ -140,6 +140,51 @@ void make_anchors_feasible(const RobotModel& model, RobotData& data, const MatX&
     a.p_W = Vec2(x[1], y[1]);
     a.yaw = std::atan2(heading.y(), heading.x());
   }
+
+  // A touchdown must also be reachable with the other foot where it stands: legs that cannot turn
+  // or place a foot freely (H1's five joints, ±25° hip yaw) cannot land a foot as far round as a
+  // performer who pivoted on the standing one. In time order, each anchor that lands while the
+  // other foot's (already final) anchor holds is moved to the pose a two-foot IK (root free,
+  // joint limits) reaches with that foot held firmly, in the middle of their double support. The
+  // turn the landing foot cannot take is left to the next steps.
+  IkOptions two;
+  two.max_iterations = 100;
+  two.regularization = 1e-6;
+  two.step_tolerance = 1e-10;
+  two.cost_tolerance = 1e-14;
+  const LandmarkIk ik_two(model, two);
+  std::vector<std::size_t> order(anchors.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](std::size_t i, std::size_t j) { return anchors[i].begin < anchors[j].begin; });
+  auto target_of = [&](const refine::SoleAnchor& a, double weight) {
+    const auto k = static_cast<std::size_t>(a.foot);
+    IkTarget t;
+    t.link = model.soles()[k].link;
+    t.p_L = model.soles()[k].p_L_center;
+    t.p_W = Vec3(a.p_W.x(), a.p_W.y(), 0);
+    t.weight = weight;
+    t.R_L_frame = R_L_sole[k];
+    t.R_W = Quat(AngleAxis(a.yaw, Vec3::UnitZ()));
+    t.orientation_weight = 1e4 * weight;  // as above: the heading before the position
+    return t;
+  };
+  for (std::size_t n = 0; n < order.size(); ++n) {
+    refine::SoleAnchor& a = anchors[order[n]];
+    const refine::SoleAnchor* standing = nullptr;
+    for (std::size_t m = 0; m < n; ++m) {
+      const refine::SoleAnchor& b = anchors[order[m]];
+      if (b.foot != a.foot && b.begin < a.begin && a.begin < b.end) standing = &b;
+    }
+    if (!standing) continue;
+    const int f = (a.begin + std::min(a.end, standing->end) - 1) / 2;
+    VecX q_f = q.col(f);
+    ik_two.solve(data, {target_of(*standing, 1e3), target_of(a, 1.0)}, q_f, q_f);
+    const auto k = static_cast<std::size_t>(a.foot);
+    const Iso3 X = link_pose(model, data, model.soles()[k].link);
+    const Vec3 p = X * model.soles()[k].p_L_center;
+    a.p_W = p.head<2>();
+    a.yaw = refine::sole_yaw(X.linear() * R_L_sole[k]);
+  }
 }
 
 // An IK target holding the sole of `foot` at `pose` (position weight w, orientation weight
@@ -344,13 +389,23 @@ void RefinePass::run(Clip& clip, PassContext& ctx) {
         targets.push_back(sole_target(model, foot, ft.pose, o.swing_weight + (o.stance_weight - o.swing_weight) * blend,
                                       swing_length + (stance_length - swing_length) * blend, R_L_sole));
       }
-      // Warm start: the previous frame's correction carried over while the feet keep their modes.
+      // Warm start: the previous frame's correction carried over. Across a touchdown or a lift-off
+      // the frame is also solved afresh and that is kept only if it holds the rows much better (a
+      // warm start stuck on the wrong side of a flight); otherwise a leg with several solutions,
+      // e.g. H1's five joints, could jump to another one within a frame (170 rad/s on CMU 131_01).
       VecX q_f = q_target_all.col(f);
-      if (f > 0 && plan.feet[0][static_cast<std::size_t>(f)].mode == plan.feet[0][static_cast<std::size_t>(f - 1)].mode &&
-          plan.feet[1][static_cast<std::size_t>(f)].mode == plan.feet[1][static_cast<std::size_t>(f - 1)].mode)
+      const bool modes_kept = f > 0 && plan.feet[0][static_cast<std::size_t>(f)].mode == plan.feet[0][static_cast<std::size_t>(f - 1)].mode &&
+                              plan.feet[1][static_cast<std::size_t>(f)].mode == plan.feet[1][static_cast<std::size_t>(f - 1)].mode;
+      if (f > 0)
         q_f = integrate(model, q_target_all.col(f), difference(model, q_target_all.col(f - 1), q_out.col(f - 1), 1.0), 1.0);
       const IkResult r = ik.solve(data, targets, q_target_all.col(f), q_f, {}, floor);
       iterations += r.solver.iterations;
+      if (f > 0 && !modes_kept) {
+        VecX q_fresh = q_target_all.col(f);
+        const IkResult r_fresh = ik.solve(data, targets, q_target_all.col(f), q_fresh, {}, floor);
+        iterations += r_fresh.solver.iterations;
+        if (r_fresh.solver.cost < 0.5 * r.solver.cost) q_f = q_fresh;
+      }
       q_out.col(f) = q_f;
     }
   };
