@@ -111,17 +111,23 @@ void make_anchors_feasible(const RobotModel& model, RobotData& data, const MatX&
   o.cost_tolerance = 1e-12;
   o.root_free = {false, false, false, false, false, false};
   const LandmarkIk ik(model, o);
+  // The anchor's flat sole pose as an IK target; the heading weighs far more than the position.
+  auto target_of = [&](const refine::SoleAnchor& a, double weight) {
+    const auto k = static_cast<std::size_t>(a.foot);
+    IkTarget t;
+    t.link = model.soles()[k].link;
+    t.p_L = model.soles()[k].p_L_center;
+    t.p_W = Vec3(a.p_W.x(), a.p_W.y(), 0);
+    t.weight = weight;
+    t.R_L_frame = R_L_sole[k];
+    t.R_W = Quat(AngleAxis(a.yaw, Vec3::UnitZ()));
+    t.orientation_weight = 1e4 * weight;
+    return t;
+  };
   for (refine::SoleAnchor& a : anchors) {
     const auto k = static_cast<std::size_t>(a.foot);
     const Sole& sole = model.soles()[k];
-    IkTarget t;
-    t.link = sole.link;
-    t.p_L = sole.p_L_center;
-    t.p_W = Vec3(a.p_W.x(), a.p_W.y(), 0);
-    t.weight = 1;
-    t.R_L_frame = R_L_sole[k];
-    t.R_W = Quat(AngleAxis(a.yaw, Vec3::UnitZ()));
-    t.orientation_weight = 1e4;
+    const IkTarget t = target_of(a, 1.0);
     std::vector<double> x, y;
     Vec2 heading = Vec2::Zero();
     for (const int num : {1, 2, 3}) {
@@ -156,18 +162,6 @@ void make_anchors_feasible(const RobotModel& model, RobotData& data, const MatX&
   std::vector<std::size_t> order(anchors.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
   std::sort(order.begin(), order.end(), [&](std::size_t i, std::size_t j) { return anchors[i].begin < anchors[j].begin; });
-  auto target_of = [&](const refine::SoleAnchor& a, double weight) {
-    const auto k = static_cast<std::size_t>(a.foot);
-    IkTarget t;
-    t.link = model.soles()[k].link;
-    t.p_L = model.soles()[k].p_L_center;
-    t.p_W = Vec3(a.p_W.x(), a.p_W.y(), 0);
-    t.weight = weight;
-    t.R_L_frame = R_L_sole[k];
-    t.R_W = Quat(AngleAxis(a.yaw, Vec3::UnitZ()));
-    t.orientation_weight = 1e4 * weight;  // as above: the heading before the position
-    return t;
-  };
   for (std::size_t n = 0; n < order.size(); ++n) {
     refine::SoleAnchor& a = anchors[order[n]];
     const refine::SoleAnchor* standing = nullptr;
