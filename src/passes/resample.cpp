@@ -1,5 +1,6 @@
 #include "retarget/passes/resample.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "retarget/core/error.hpp"
@@ -7,6 +8,34 @@
 #include "retarget/model/robot_model.hpp"
 
 namespace rt {
+
+namespace {
+
+// A stance run of the source that no export frame samples (shorter than an export frame, or after
+// the last one: a touchdown at the clip's last source frame) is kept on the export frame nearest
+// to it, so that the exported schedule has every touchdown the source has.
+void keep_unsampled_stances(const std::vector<std::uint8_t>& contact_in, const std::vector<int>& nearest, double fps_in,
+                            double fps_out, std::vector<std::uint8_t>& contact_out) {
+  const int T_in = static_cast<int>(contact_in.size()), T_out = static_cast<int>(contact_out.size());
+  std::vector<std::uint8_t> sampled(static_cast<std::size_t>(T_in), 0);
+  for (int i : nearest) sampled[static_cast<std::size_t>(i)] = 1;
+  for (int b = 0; b < T_in;) {
+    if (!contact_in[static_cast<std::size_t>(b)]) {
+      ++b;
+      continue;
+    }
+    int e = b;
+    bool seen = false;
+    for (; e < T_in && contact_in[static_cast<std::size_t>(e)]; ++e) seen = seen || sampled[static_cast<std::size_t>(e)];
+    if (!seen) {
+      const double t_mid = 0.5 * (b + e - 1) / fps_in;
+      contact_out[static_cast<std::size_t>(std::clamp(static_cast<int>(std::lround(t_mid * fps_out)), 0, T_out - 1))] = 1;
+    }
+    b = e;
+  }
+}
+
+}  // namespace
 
 Reference resample_motion(const RobotModel& model, const RobotMotion& motion, const ContactSchedule& contacts,
                           const Mat3X& com_W, const Eigen::Matrix2Xd& cop_W, double fps_out) {
@@ -32,6 +61,7 @@ Reference resample_motion(const RobotModel& model, const RobotMotion& motion, co
   if (com_W.cols() == T) ref.com_W.resize(3, T_out);
   if (cop_W.cols() == T) ref.cop_W.resize(2, T_out);
 
+  std::vector<int> nearest(static_cast<std::size_t>(T_out));  // the source frame each export frame's labels come from
   for (int k = 0; k < T_out; ++k) {
     const double s = std::min(k / fps_out * motion.fps, static_cast<double>(T - 1));
     const int i = std::min(static_cast<int>(std::floor(s)), T - 1);
@@ -45,14 +75,18 @@ Reference resample_motion(const RobotModel& model, const RobotMotion& motion, co
       const int row = 7 + order[static_cast<std::size_t>(c)];
       ref.joint_pos(c, k) = (1 - a) * qi[row] + a * qj[row];
     }
-    const int nearest = a < 0.5 ? i : j;
+    nearest[static_cast<std::size_t>(k)] = a < 0.5 ? i : j;
     if (has_contacts)
       for (int foot = 0; foot < 2; ++foot)
         ref.contact[static_cast<std::size_t>(foot)][static_cast<std::size_t>(k)] =
-            contacts.in_contact[static_cast<std::size_t>(foot)][static_cast<std::size_t>(nearest)];
+            contacts.in_contact[static_cast<std::size_t>(foot)][static_cast<std::size_t>(nearest[static_cast<std::size_t>(k)])];
     if (ref.com_W.cols() == T_out) ref.com_W.col(k) = (1 - a) * com_W.col(i) + a * com_W.col(j);
     if (ref.cop_W.cols() == T_out) ref.cop_W.col(k) = (1 - a) * cop_W.col(i) + a * cop_W.col(j);
   }
+  if (has_contacts)
+    for (int foot = 0; foot < 2; ++foot)
+      keep_unsampled_stances(contacts.in_contact[static_cast<std::size_t>(foot)], nearest, motion.fps, fps_out,
+                             ref.contact[static_cast<std::size_t>(foot)]);
   return ref;
 }
 

@@ -1,7 +1,8 @@
 #pragma once
 /// `resample` pass: the robot motion at the source rate becomes the exported Reference at the
 /// output rate (design.md §5, default 30 fps): positions and joint angles interpolated linearly,
-/// the root orientation by slerp, contacts from the nearest source frame, re-planned COM and
+/// the root orientation by slerp, contacts from the nearest source frame (a stance no export frame
+/// samples is kept on the export frame nearest to it), re-planned COM and
 /// predicted COP linearly. Joint columns follow the robot's export order.
 
 #include "retarget/pipeline/pass.hpp"
