@@ -337,29 +337,39 @@ void RefinePass::run(Clip& clip, PassContext& ctx) {
   std::vector<IkTarget> targets;
   int iterations = 0;
   // How well frame f holds the plan at the kinematics in `data`: the stance soles' distance [m]
-  // and angle [rad] from their anchors, and the depth [m] of the lowest collision point below the
-  // floor (stance soles excluded). Held: within 1 mm, 0.5 deg and 1 mm.
+  // and angle [rad] from their anchors, the depth [m] of the lowest collision point below the
+  // floor (stance soles excluded), and how far [m] a swing foot's geometry is below its planned
+  // clearance. Held: within 1 mm, 0.5 deg and 1 mm (the clearance is judged by the fallback only).
   struct FrameHold {
-    double position = 0, angle = 0, floor = 0;
+    double position = 0, angle = 0, floor = 0, clearance = 0;
     bool held() const { return position <= 1e-3 && angle <= 0.5 * M_PI / 180 && floor <= 1e-3; }
   };
   std::vector<LowestPoint> low;
   auto frame_hold = [&](int f) {
     FrameHold h;
     std::array<int, 2> skip{{-1, -1}};
+    std::array<double, 2> min_height{{0, 0}};
     for (int foot = 0; foot < 2; ++foot) {
       const auto k = static_cast<std::size_t>(foot);
       const FootTarget& ft = plan.feet[k][static_cast<std::size_t>(f)];
-      if (ft.mode != FootMode::Stance) continue;
       const Sole& sole = model.soles()[k];
+      if (ft.mode != FootMode::Stance) {
+        min_height[k] = ft.min_height_m;
+        continue;
+      }
       skip[k] = sole.link;
       const Iso3 X = link_pose(model, data, sole.link);
       h.position = std::max(h.position, (X * sole.p_L_center - ft.pose.p_W).norm());
       h.angle = std::max(h.angle, AngleAxis(Mat3(X.linear() * R_L_sole[k] * ft.pose.R_W.transpose())).angle());
     }
     low.clear();
-    collision_points_below(model, data, 0.0, low, skip[0], skip[1]);
-    for (const LowestPoint& p : low) h.floor = std::max(h.floor, -p.z_m);
+    collision_points_below(model, data, std::max(min_height[0], min_height[1]), low, skip[0], skip[1]);
+    for (const LowestPoint& p : low) {
+      h.floor = std::max(h.floor, -p.z_m);
+      for (int foot = 0; foot < 2; ++foot)
+        if (p.link == model.soles()[static_cast<std::size_t>(foot)].link)
+          h.clearance = std::max(h.clearance, min_height[static_cast<std::size_t>(foot)] - p.z_m);
+    }
     return h;
   };
   auto project = [&](const MatX& q_target_all, MatX& q_out) {
@@ -405,32 +415,82 @@ void RefinePass::run(Clip& clip, PassContext& ctx) {
   };
 
   // Where the smooth correction did not converge onto the rows (a motion its smooth solution cannot
-  // follow within the iterations, e.g. a fast turn over a planted foot in a dance), the frames take
-  // the per-frame projection instead where that holds the rows better, blended in over `ramp` frames on either
-  // side: the feet and the floor come before smoothness (the speed check of the rounds follows).
+  // follow within the iterations, e.g. a fast turn over a planted foot in a dance, or a swing foot
+  // that dips for a frame or two below its clearance), the frames take the per-frame projection
+  // instead where that holds the rows better, blended in over `ramp` frames on either side: the
+  // feet and the floor come before smoothness (the speed check of the rounds follows). The
+  // clearance rows sit 2 mm above the clearance itself: a miss beyond that is gross.
   const int ramp = std::max(2, static_cast<int>(std::lround(0.1 * fps)));
+  auto bump = [&](std::vector<double>& weight, int f) {  // a raised cosine over f ± ramp
+    for (int g = std::max(0, f - ramp); g <= std::min(T - 1, f + ramp); ++g) {
+      const double u = static_cast<double>(std::abs(g - f)) / (ramp + 1);
+      weight[static_cast<std::size_t>(g)] = std::max(weight[static_cast<std::size_t>(g)], 0.5 * (1 + std::cos(M_PI * u)));
+    }
+  };
+  auto blend = [&](MatX& q_to, const MatX& q_frames, const std::vector<double>& weight, int first, int last) {
+    for (int f = first; f <= last; ++f) {
+      const double w = weight[static_cast<std::size_t>(f)];
+      if (w > 0) q_to.col(f) = integrate(model, q_to.col(f), difference(model, q_to.col(f), q_frames.col(f), 1.0), w);
+    }
+  };
   auto fall_back = [&](MatX& q_smooth_corrected, const MatX& q_frames) {
     std::vector<double> weight(static_cast<std::size_t>(T), 0.0);
+    std::vector<int> clearance_only;
     int frames = 0;
     for (int f = 0; f < T; ++f) {
       update_kinematics(model, data, q_smooth_corrected.col(f));
       const FrameHold a = frame_hold(f);
       // Only a gross miss: a small one costs less than the speed the per-frame solution adds.
-      if (a.position <= 3e-3 && a.angle <= 1.5 * M_PI / 180 && a.floor <= 2e-3) continue;
+      const bool held = a.position <= 3e-3 && a.angle <= 1.5 * M_PI / 180 && a.floor <= 2e-3;
+      if (held && a.clearance <= 2e-3) continue;
       update_kinematics(model, data, q_frames.col(f));
       const FrameHold b = frame_hold(f);
-      if (b.position + 0.1 * b.angle + b.floor >= a.position + 0.1 * a.angle + a.floor) continue;  // [m, rad/10 m]
-      ++frames;
-      for (int g = std::max(0, f - ramp); g <= std::min(T - 1, f + ramp); ++g) {
-        const double u = static_cast<double>(std::abs(g - f)) / (ramp + 1);
-        weight[static_cast<std::size_t>(g)] = std::max(weight[static_cast<std::size_t>(g)], 0.5 * (1 + std::cos(M_PI * u)));
+      if (b.position + 0.1 * b.angle + b.floor + b.clearance >= a.position + 0.1 * a.angle + a.floor + a.clearance)
+        continue;  // [m, rad/10 m]
+      if (held) {
+        clearance_only.push_back(f);
+        continue;
       }
+      ++frames;
+      bump(weight, f);
     }
-    for (int f = 0; f < T; ++f) {
-      const double w = weight[static_cast<std::size_t>(f)];
-      if (w <= 0) continue;
-      q_smooth_corrected.col(f) =
-          integrate(model, q_smooth_corrected.col(f), difference(model, q_smooth_corrected.col(f), q_frames.col(f), 1.0), w);
+    blend(q_smooth_corrected, q_frames, weight, 0, T - 1);
+    // A swing foot below its clearance (and nothing else missed) takes the per-frame projection only
+    // where that makes no joint faster than its limit, lets no frame lose the hold of its stance
+    // soles and floor, and drops no other swing frame below the clearance: a scuff is a smaller
+    // fault than a joint the robot cannot drive (e.g. another leg solution of H1's five joints).
+    std::vector<FrameHold> hold_before;
+    auto window_holds = [&](int first, int last) {
+      bool ok = true;
+      for (int f = first; f <= last; ++f) {
+        update_kinematics(model, data, q_smooth_corrected.col(f));
+        const FrameHold h = frame_hold(f);
+        if (hold_before.size() < static_cast<std::size_t>(last - first + 1)) {
+          hold_before.push_back(h);
+          continue;
+        }
+        const FrameHold& b = hold_before[static_cast<std::size_t>(f - first)];
+        ok = ok && (h.held() || !b.held()) && (h.clearance <= 2e-3 || h.clearance <= b.clearance);
+      }
+      return ok;
+    };
+    for (std::size_t c = 0; c < clearance_only.size();) {
+      std::size_t e = c + 1;  // frames whose ramps overlap are one cluster
+      while (e < clearance_only.size() && clearance_only[e] - clearance_only[e - 1] <= 2 * ramp) ++e;
+      std::vector<double> w(static_cast<std::size_t>(T), 0.0);
+      for (std::size_t k = c; k < e; ++k) bump(w, clearance_only[k]);
+      const int first = std::max(0, clearance_only[c] - ramp - 1), last = std::min(T - 1, clearance_only[e - 1] + ramp + 1);
+      const MatX before = q_smooth_corrected.middleCols(first, last - first + 1);
+      hold_before.clear();
+      window_holds(first, last);
+      blend(q_smooth_corrected, q_frames, w, first, last);
+      const bool faster =
+          speed_violations(q_smooth_corrected.middleCols(first, last - first + 1), fps, hard_limit) > speed_violations(before, fps, hard_limit);
+      if (faster || !window_holds(first, last))
+        q_smooth_corrected.middleCols(first, last - first + 1) = before;
+      else
+        frames += static_cast<int>(e - c);
+      c = e;
     }
     return frames;
   };
@@ -440,7 +500,7 @@ void RefinePass::run(Clip& clip, PassContext& ctx) {
   // the round with the fewest violations is kept.
   MatX q = q_in, q_best;
   refine::CorrectionReport correction;
-  int rounds = 0, active_rows = 0, downweighted = 0, fallback_frames = 0;
+  int rounds = 0, active_rows = 0, downweighted = 0, fallback_frames = 0, best_fallback_frames = 0;
   int best_violations = -1, previous_violations = velocity_before;
   // Wall time per stage [ms], all rounds (the -v statistics).
   double ms_smooth = 0, ms_project = 0, ms_metric = 0, ms_correct = 0, ms_fallback = 0;
@@ -476,12 +536,14 @@ void RefinePass::run(Clip& clip, PassContext& ctx) {
     if (best_violations < 0 || violations < best_violations) {
       best_violations = violations;
       q_best = q;
+      best_fallback_frames = fallback_frames;
     }
     if (violations == 0 || 2 * violations > previous_violations) break;
     previous_violations = violations;
   }
   lap(ms_fallback);
   q = std::move(q_best);
+  fallback_frames = best_fallback_frames;
   // The limit rows of the correction are penalties: what they leave (micro-radians) is clamped.
   for (int f = 0; f < T; ++f)
     for (int i = 0; i < nu; ++i) q(7 + i, f) = std::clamp(q(7 + i, f), model.q_lower()[i], model.q_upper()[i]);
@@ -515,7 +577,7 @@ void RefinePass::run(Clip& clip, PassContext& ctx) {
                      format("Gauss-Newton over the clip, %d coordinates, %d cost evaluations (last round)", correction.coordinates,
                             correction.evaluations));
   ctx.statistics.set("projection-iterations-per-frame", static_cast<double>(iterations) / T, "", "last round");
-  ctx.statistics.set("fallback-frames", fallback_frames, "frames", "the smooth correction missed the rows: per-frame projection used (last round)");
+  ctx.statistics.set("fallback-frames", fallback_frames, "frames", "the smooth correction missed the rows: per-frame projection used (the kept round)");
   ctx.statistics.set("stance-error-max", worst_position, "m", "sole centre from its anchor, source rate");
   ctx.statistics.set("stance-angle-max", worst_angle * 180 / M_PI, "deg", "sole frame from its anchor");
   ctx.statistics.set("frames-stance-not-held", frames_not_held, "frames", "beyond 1 mm or 0.5 deg, or 1 mm below the floor");
