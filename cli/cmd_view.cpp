@@ -95,7 +95,7 @@ Command setup_view(CLI::App& parent) {
   app->footer(
       "The page shows the robot's meshes posed by the reference, play/pause, a time scrubber, playback speed, the "
       "contact timeline (feet green in contact), the kinematic COM and, when the reference has them (meta.json / "
-      "NPZ com_pos_w, cop_ref_w), the planned COM and ZMP with the support polygon on the floor.\n"
+      "NPZ com_pos_w, zmp_w), the planned COM and ZMP with the support polygon on the floor.\n"
       "Exit status: 0 written, 2 bad input (or libjs-three not installed).");
   return {app, [v, app] {
             if (app->count("--robot") == 0) std::cerr << "robot: " << v->robot << " (default; pass --robot)\n";

@@ -29,7 +29,7 @@ const std::set<std::string>& reserved_keys() {
       "format",    "format_version", "robot", "fps",         "num_frames", "duration_s",
       "files",     "joint_names",    "quaternion_order",     "npz_quaternion_order",
       "csv",       "units",          "world_frame",          "contacts",   "com_pos_w",
-      "cop_ref_w", "time_s"};
+      "cop_ref_w", "zmp_w",          "time_s"};
   return keys;
 }
 
@@ -179,6 +179,7 @@ std::string format_reference_meta(const Reference& r, const std::vector<std::str
   if (r.cop_W.cols() > 0) {
     Json rows = Json::array();
     for (Eigen::Index t = 0; t < r.cop_W.cols(); ++t) rows.push_back({r.cop_W(0, t), r.cop_W(1, t)});
+    m["zmp_w"] = rows;  // the issue-14 name; cop_ref_w (design.md) kept for readers of the first format
     m["cop_ref_w"] = std::move(rows);
   }
   for (auto& item : extra.items()) m[item.key()] = item.value();
@@ -266,8 +267,9 @@ ReferenceMeta parse_reference_meta(std::string_view text, const std::string& fil
       }
     } else if (key == "com_pos_w") {
       m.com_W = in.rows(v, key, 3);
-    } else if (key == "cop_ref_w") {
-      m.cop_W = in.rows(v, key, 2);
+    } else if (key == "zmp_w" || key == "cop_ref_w") {
+      // The same plan under both names; zmp_w wins where a file has both.
+      if (key == "zmp_w" || m.cop_W.cols() == 0) m.cop_W = in.rows(v, key, 2);
     } else if (key == "time_s") {
       in.array(v, key);
       for (std::size_t k = 0; k < v.size(); ++k) m.time_s.push_back(in.number(v[k], format("time_s[%zu]", k)));

@@ -18,8 +18,9 @@
 ///   world_frame          "z up, floor at z = 0", informational
 ///   contacts             {"encoding": ..., "left": [[b, e], ...], "right": [[b, e], ...]}: stance
 ///                        intervals [begin, end) in frames per foot, ordered, inside [0, T)
-///   com_pos_w            [[x, y, z], ...] re-planned COM per frame [m] (when present)
-///   cop_ref_w            [[x, y], ...] predicted COP per frame [m] (when present)
+///   com_pos_w            [[x, y, z], ...] planned COM per frame [m] (when present)
+///   zmp_w                [[x, y], ...] planned ZMP per frame [m], the COP to realise (when present)
+///   cop_ref_w            the same as zmp_w (design.md's name); read when zmp_w is absent
 ///   <extra keys>         Reference::extra_meta_json merged in (provenance: tool version, source
 ///                        file and hash, urdf_sha256, passes with options; quality metrics)
 ///

@@ -152,10 +152,13 @@ class NpzReferenceReader {
       expect_shape("com_pos_w", *c, {T_, 3});
       r.com_W = matrix("com_pos_w", *c, 3, Label::Axis);
     }
-    if (const Array* c = f_.find("cop_ref_w")) {
-      numeric("cop_ref_w", *c);
-      expect_shape("cop_ref_w", *c, {T_, 2});
-      r.cop_W = matrix("cop_ref_w", *c, 2, Label::Axis);
+    for (const char* key : {"zmp_w", "cop_ref_w"}) {  // the same plan under both names; zmp_w wins
+      if (const Array* c = f_.find(key)) {
+        numeric(key, *c);
+        expect_shape(key, *c, {T_, 2});
+        r.cop_W = matrix(key, *c, 2, Label::Axis);
+        break;
+      }
     }
     for (const char* key : {"time_s", "time"}) {
       if (const Array* t = f_.find(key)) {
@@ -327,7 +330,10 @@ std::string encode_reference_npz(const Reference& r, const NpzBodyArrays* bodies
     a.push_back({"contacts", Array::from_ints({Ts, 2}, flags, DType::Bool), 0});
   }
   if (r.com_W.cols() > 0) a.push_back({"com_pos_w", from_matrix(r.com_W), 0});
-  if (r.cop_W.cols() > 0) a.push_back({"cop_ref_w", from_matrix(r.cop_W), 0});
+  if (r.cop_W.cols() > 0) {
+    a.push_back({"zmp_w", from_matrix(r.cop_W), 0});
+    a.push_back({"cop_ref_w", from_matrix(r.cop_W), 0});
+  }
 
   if (bodies && !bodies->empty()) {
     const NpzBodyArrays& b = *bodies;

@@ -11,8 +11,9 @@
 ///   root_pos_w      <f8     (T, 3)     [m] root link origin in W                              (**)
 ///   root_quat_w     <f8     (T, 4)     root link orientation, **w x y z**                      (**)
 ///   contacts        |b1     (T, 2)     stance flags, column 0 left foot, 1 right foot (when known)
-///   com_pos_w       <f8     (T, 3)     [m] re-planned COM (when present)
-///   cop_ref_w       <f8     (T, 2)     [m] predicted COP x y (when present)
+///   com_pos_w       <f8     (T, 3)     [m] planned COM (when present)
+///   zmp_w           <f8     (T, 2)     [m] planned ZMP x y, the COP to realise (when present)
+///   cop_ref_w       <f8     (T, 2)     [m] the same as zmp_w (design.md's name); read when zmp_w is absent
 ///   body_names      <U<n>   (B,)       link names (when body arrays are given)
 ///   body_pos_w      <f8     (T, B, 3)  [m] link origins in W
 ///   body_quat_w     <f8     (T, B, 4)  link orientations, **w x y z**

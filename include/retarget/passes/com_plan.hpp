@@ -31,7 +31,7 @@
 ///     change). Kept if the export grid's ZMP improves and the soles hold to `foot_tolerance`.
 ///
 /// The planned COM (3 x T: plan x, y; the low-passed height) and the plan's ZMP go to the
-/// reference (meta.json and NPZ `com_pos_w`, `cop_ref_w`) as the balance reference.
+/// reference (meta.json and NPZ `com_pos_w`, `zmp_w`) as the balance reference.
 
 #include "retarget/balance/zmp_plan.hpp"
 #include "retarget/pipeline/pass.hpp"

@@ -6,7 +6,7 @@
 /// What the page draws: the robot's meshes (URDF visual geometry, else collision geometry,
 /// decimated to a face budget) posed per frame; the floor; the feet coloured while in contact,
 /// a contact timeline and the support polygon (convex hull of the soles in contact) on the floor;
-/// the kinematic COM and, when the reference has them (meta.json / NPZ `com_pos_w`, `cop_ref_w`),
+/// the kinematic COM and, when the reference has them (meta.json / NPZ `com_pos_w`, `zmp_w`),
 /// the planned COM and ZMP (predicted COP) with their floor traces; optionally the source human
 /// skeleton (landmarks scaled to the robot) over or beside the robot; for the robot page, the
 /// standing pose with its soles and landmarks. Controls: play/pause, time scrubber, speed, keys, layer checkboxes.

@@ -38,6 +38,25 @@ TEST(ReferenceMeta, WritesTheDocumentedSchema) {
   EXPECT_LT(text.find("\"urdf_sha256\""), text.find("\"provenance\""));
 }
 
+TEST(ReferenceMeta, ThePlannedZmpIsReadUnderEitherName) {
+  const Reference r = test::make_reference(12, {"hip", "knee"}, 3);
+  ASSERT_GT(r.cop_W.cols(), 0);
+  const std::string text = format_reference_meta(r, {"walk.csv"});
+  EXPECT_NE(text.find("\"zmp_w\""), std::string::npos);
+  EXPECT_NE(text.find("\"cop_ref_w\""), std::string::npos);
+  // Another tool's file with only zmp_w; one with both where they differ: zmp_w wins.
+  const std::string only_zmp = R"({"fps": 30, "joint_names": ["hip"], "zmp_w": [[0.5, -0.25], [0.75, 1.0]]})";
+  const ReferenceMeta a = parse_reference_meta(only_zmp, "a.meta.json");
+  ASSERT_EQ(a.cop_W.cols(), 2);
+  EXPECT_EQ(a.cop_W(1, 0), -0.25);
+  for (const char* both : {R"({"fps": 30, "joint_names": ["hip"], "cop_ref_w": [[9, 9]], "zmp_w": [[1, 2]]})",
+                           R"({"fps": 30, "joint_names": ["hip"], "zmp_w": [[1, 2]], "cop_ref_w": [[9, 9]]})"}) {
+    const ReferenceMeta b = parse_reference_meta(both, "b.meta.json");
+    ASSERT_EQ(b.cop_W.cols(), 1) << both;
+    EXPECT_EQ(b.cop_W(0, 0), 1.0) << both;
+  }
+}
+
 TEST(ReferenceMeta, RoundTripIsExactAndKeepsUnknownKeys) {
   const Reference r = test::make_reference(40, {"hip", "knee", "ankle"}, 11);
   const std::string text = format_reference_meta(r, {"walk.csv"});

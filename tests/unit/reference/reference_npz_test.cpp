@@ -116,7 +116,8 @@ d = np.load(sys.argv[1])
 T, J, B = 20, 29, 2
 want = {"fps": ((1,), np.float64), "joint_names": ((J,), np.dtype("<U26")), "joint_pos": ((T, J), np.float64),
         "joint_vel": ((T, J), np.float64), "root_pos_w": ((T, 3), np.float64), "root_quat_w": ((T, 4), np.float64),
-        "contacts": ((T, 2), np.bool_), "com_pos_w": ((T, 3), np.float64), "cop_ref_w": ((T, 2), np.float64),
+        "contacts": ((T, 2), np.bool_), "com_pos_w": ((T, 3), np.float64), "zmp_w": ((T, 2), np.float64),
+        "cop_ref_w": ((T, 2), np.float64),
         "body_names": ((B,), np.dtype("<U20")), "body_pos_w": ((T, B, 3), np.float64),
         "body_quat_w": ((T, B, 4), np.float64), "body_lin_vel_w": ((T, B, 3), np.float64),
         "body_ang_vel_w": ((T, B, 3), np.float64)}
@@ -124,6 +125,7 @@ assert sorted(d.files) == sorted(want), d.files
 for k, (shape, dtype) in want.items():
     assert d[k].shape == shape and d[k].dtype == dtype, (k, d[k].shape, d[k].dtype)
 assert float(d["fps"][0]) == 30.0
+assert np.array_equal(d["zmp_w"], d["cop_ref_w"])  # one plan, the issue's name and design.md's
 assert d["joint_names"][0] == "left_hip_pitch_joint" and d["joint_names"][28] == "right_wrist_yaw_joint"
 assert list(d["body_names"]) == ["pelvis", "left_ankle_roll_link"]
 q = np.loadtxt(sys.argv[2]).reshape(T, J)
