@@ -199,11 +199,20 @@ void ViolationMonitor::observe(const ControlInput& in, const ControlOutput& ctl)
                              out);
     const bool stuck = !r.contact[fi] && feet.loaded[fi];
     no_lift_off_[fi].update(t_clip, stuck, fn, stuck ? format("%s still carries %.0f N", foot_name[f], fn) : "", out);
-    const MatX J = link_jacobian(model, data, sole.link, sole.p_L_center);
-    const double speed = (J.topRows(2) * v).norm();
+    // The sole's fastest point over the floor: a foot that spins on the spot (yaw slip on a fast
+    // pivot) slides at its toe and heel while its centre stays put.
+    const Eigen::Matrix<double, 6, 1> twist = link_jacobian(model, data, sole.link, sole.p_L_center) * v;
+    const Vec3 v_centre = twist.head<3>(), omega = twist.tail<3>();
+    const Mat3 R_W_L = link_pose(model, data, sole.link).linear();
+    double speed = v_centre.head<2>().norm();
+    for (const Vec3& c : sole.corners_L()) speed = std::max(speed, (v_centre + omega.cross(R_W_L * (c - sole.p_L_center))).head<2>().norm());
     foot_speed[fi] = speed;
     const bool sliding = r.contact[fi] && feet.loaded[fi] && speed > o.slip_speed_mps;
-    slip_[fi].update(t_clip, sliding, speed, sliding ? format("%s sole slides at %.3f m/s", foot_name[f], speed) : "", out);
+    slip_[fi].update(t_clip, sliding, speed,
+                     sliding ? format("%s sole slides at %.3f m/s (fastest corner; centre %.3f m/s, turning %.2f rad/s)", foot_name[f],
+                                      speed, v_centre.head<2>().norm(), std::abs(omega.z()))
+                             : "",
+                     out);
     if (feet.loaded[fi]) {
       const Iso3 X = link_pose(model, data, sole.link);
       for (const Vec3& c : sole.corners_L()) support_pts.push_back((X * c).head<2>());

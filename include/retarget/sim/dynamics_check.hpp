@@ -82,7 +82,7 @@ struct DynamicsCheckOptions {
   double stance_height_tolerance_m = 0.05;
   double contact_tolerance_s = 0.15;     ///< [s] allowed lag between a reference contact change and the robot's
   double cop_margin_m = 0.01;            ///< [m] COP closer than this to the support edge is reported
-  double slip_speed_mps = 0.10;          ///< [m/s] loaded stance foot faster than this slides
+  double slip_speed_mps = 0.10;          ///< [m/s] loaded stance sole's fastest corner faster than this slides (a spin too)
   double joint_limit_margin_rad = 0.0087;  ///< [rad] (0.5°) closer than this to a limit counts as reached
   double fall_com_fraction = 0.5;        ///< COM below this fraction of its standing height = fall
   double fall_tilt_rad = 0.785398163397448;  ///< trunk tilt above this = fall (45°)
@@ -108,7 +108,7 @@ struct DynamicsTrace {
   /// (zero for a foot without a wrench) [N].
   std::vector<std::array<Vec3, 2>> foot_force_W, foot_force_cmd_W;
   std::vector<Vec2> cop_commanded_W;  ///< COP of the commanded contact wrenches (NaN when none)
-  std::vector<std::array<double, 2>> foot_speed_mps;  ///< horizontal speed of each sole centre
+  std::vector<std::array<double, 2>> foot_speed_mps;  ///< horizontal speed of each sole's fastest corner (slip measure)
   std::vector<std::array<double, 4>> tracking_error_rad;  ///< RMS joint error: legs, torso (waist+neck), arms, all
 };
 
