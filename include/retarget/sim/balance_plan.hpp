@@ -62,7 +62,9 @@ struct BalancePlan {
   Eigen::Matrix2Xd offset_W;       ///< [m] Δp
   VecX com_height_m;               ///< [m] reference COM height (not re-planned)
   /// ‖planned − reference COM‖ over the clip for the plan without ZMP centring: how far the
-  /// reference must be moved to be feasible (the centred plan moves it further, for margin).
+  /// reference must be moved to be feasible (the centred plan moves it further, for margin). Not
+  /// over the lead-in, nor over the clip's last sqrt(z_c/g) (≈ 0.25 s), where a clip cut mid-step
+  /// leaves the free-end plan's COM running off towards the step the clip no longer shows.
   double max_shift_m = 0, rms_shift_m = 0;
   double max_shift_time_s = 0;
   double max_violation_m = 0;      ///< worst planned ZMP outside its shrunk polygon
