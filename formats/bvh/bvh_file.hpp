@@ -49,6 +49,7 @@ struct BvhFile {
   int num_frames = 0;       ///< rows in `values`
   int declared_frames = 0;  ///< the `Frames:` value
   double frame_time_s = 0;  ///< [s] the `Frame Time:` value as written (may be 0 in broken files)
+  int frame_time_decimals = -1;  ///< digits written after its decimal point (-1: exponent notation)
   /// Motion matrix, num_frames x num_channels, row-major; columns in declaration order.
   std::vector<double> values;
 

@@ -389,6 +389,10 @@ class Parser {
     if (!std::isfinite(frame_time) || frame_time < 0)
       fail(ft, "frame time " + found(ft) + " must be a finite, non-negative number of seconds");
     file_.frame_time_s = frame_time;
+    if (ft.text.find_first_of("eE") == std::string_view::npos) {
+      const std::size_t dot = ft.text.find('.');
+      file_.frame_time_decimals = dot == std::string_view::npos ? 0 : static_cast<int>(ft.text.size() - dot - 1);
+    }
     expect_line_end("the frame time");
 
     const std::size_t channels = static_cast<std::size_t>(file_.num_channels);

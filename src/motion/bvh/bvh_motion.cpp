@@ -249,6 +249,19 @@ HumanMotion bvh_to_human_motion(const BvhFile& file, const MotionLoadOptions& op
                        "'Frame Time: " + format("%g", file.frame_time_s) +
                            "' gives no frame rate; pass the rate with --source-fps");
     m.fps = src.file_fps;
+    // Exporters write 1/fps rounded: "Frame Time: 0.033333" is 30.0003 Hz as written but 1/30 s to
+    // its six decimals. Taken as written, the export grid drifts against the source frames (a 30 Hz
+    // output of a 3,945-frame LAFAN1 clip interpolated every frame between two source frames, also
+    // across touchdowns); so a frame time that is 1/n s for a whole n to its written precision is
+    // read as n Hz.
+    const double whole = std::round(src.file_fps);
+    if (file.frame_time_decimals >= 0 && whole >= 1 && whole != src.file_fps &&
+        std::abs(file.frame_time_s - 1 / whole) <= 0.5 * std::pow(10.0, -file.frame_time_decimals) * (1 + 1e-9)) {
+      m.fps = whole;
+      m.diagnostics.note(file.name + ":" + std::to_string(file.frame_time_line),
+                         format("frame time %.9g s read as 1/%g s (%g Hz), its value to the %d decimals written", file.frame_time_s, whole,
+                                whole, file.frame_time_decimals));
+    }
     check_frame_rate(m.fps, file.name + ":" + std::to_string(file.frame_time_line),
                      "the frame rate ('Frame Time: " + format("%g", file.frame_time_s) + "')");
   }

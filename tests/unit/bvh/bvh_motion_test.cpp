@@ -275,6 +275,32 @@ TEST(BvhMotion, SyntheticHumanoidDetectsMetresInchesAndZUp) {
   }
 }
 
+TEST(BvhMotion, AFrameTimeRoundedFromAWholeRateIsReadAsThatRate) {
+  test::HumanoidClip c;
+  c.frames = 3;
+  const std::string text = test::make_humanoid_bvh(c);
+  auto rate = [&](const std::string& frame_time, std::string* notes = nullptr) {
+    std::string t = text;
+    const auto ft = t.find("Frame Time: ");
+    t.replace(ft, t.find('\n', ft) - ft, "Frame Time: " + frame_time);
+    const HumanMotion m = bvh_to_human_motion(parse_bvh(t, "rate.bvh"));
+    if (notes)
+      for (const Diagnostic& n : m.diagnostics.items()) *notes += n.message + "\n";
+    return m.fps;
+  };
+  std::string notes;
+  EXPECT_DOUBLE_EQ(rate("0.033333", &notes), 30);  // LAFAN1, Bandai: 30.0003 Hz as written
+  EXPECT_NE(notes.find("read as 1/30 s (30 Hz)"), std::string::npos) << notes;
+  EXPECT_DOUBLE_EQ(rate("0.008333"), 120);         // CMU, PyMO
+  EXPECT_DOUBLE_EQ(rate("0.0083333"), 120);
+  EXPECT_DOUBLE_EQ(rate("0.016667"), 60);          // rounded up
+  EXPECT_DOUBLE_EQ(rate("0.01"), 100);             // exact already
+  // Not a whole rate to the written precision, or no decimals to judge by: as written.
+  EXPECT_NEAR(rate("0.033367"), 29.9697, 1e-4);   // NTSC 29.97 Hz
+  EXPECT_NEAR(rate("3.3333e-02"), 30.0003, 1e-4);
+  EXPECT_NEAR(rate("0.0333333333333"), 30, 1e-9);  // within 1e-13 of 1/30: 30 Hz either way
+}
+
 TEST(BvhMotion, NumericallyUnusableClipsAreLocatedErrors) {
   test::HumanoidClip c;
   c.frames = 3;
