@@ -459,20 +459,13 @@ void RefinePass::run(Clip& clip, PassContext& ctx) {
     // where that makes no joint faster than its limit, lets no frame lose the hold of its stance
     // soles and floor, and drops no other swing frame below the clearance: a scuff is a smaller
     // fault than a joint the robot cannot drive (e.g. another leg solution of H1's five joints).
-    std::vector<FrameHold> hold_before;
     auto window_holds = [&](int first, int last) {
-      bool ok = true;
+      std::vector<FrameHold> holds;
       for (int f = first; f <= last; ++f) {
         update_kinematics(model, data, q_smooth_corrected.col(f));
-        const FrameHold h = frame_hold(f);
-        if (hold_before.size() < static_cast<std::size_t>(last - first + 1)) {
-          hold_before.push_back(h);
-          continue;
-        }
-        const FrameHold& b = hold_before[static_cast<std::size_t>(f - first)];
-        ok = ok && (h.held() || !b.held()) && (h.clearance <= 2e-3 || h.clearance <= b.clearance);
+        holds.push_back(frame_hold(f));
       }
-      return ok;
+      return holds;
     };
     for (std::size_t c = 0; c < clearance_only.size();) {
       std::size_t e = c + 1;  // frames whose ramps overlap are one cluster
@@ -481,12 +474,16 @@ void RefinePass::run(Clip& clip, PassContext& ctx) {
       for (std::size_t k = c; k < e; ++k) bump(w, clearance_only[k]);
       const int first = std::max(0, clearance_only[c] - ramp - 1), last = std::min(T - 1, clearance_only[e - 1] + ramp + 1);
       const MatX before = q_smooth_corrected.middleCols(first, last - first + 1);
-      hold_before.clear();
-      window_holds(first, last);
+      const std::vector<FrameHold> hold_before = window_holds(first, last);
       blend(q_smooth_corrected, q_frames, w, first, last);
-      const bool faster =
-          speed_violations(q_smooth_corrected.middleCols(first, last - first + 1), fps, hard_limit) > speed_violations(before, fps, hard_limit);
-      if (faster || !window_holds(first, last))
+      const std::vector<FrameHold> hold_after = window_holds(first, last);
+      bool kept = speed_violations(q_smooth_corrected.middleCols(first, last - first + 1), fps, hard_limit) <=
+                  speed_violations(before, fps, hard_limit);
+      for (std::size_t k = 0; k < hold_after.size(); ++k) {
+        const FrameHold &b = hold_before[k], &h = hold_after[k];
+        kept = kept && (h.held() || !b.held()) && (h.clearance <= 2e-3 || h.clearance <= b.clearance);
+      }
+      if (!kept)
         q_smooth_corrected.middleCols(first, last - first + 1) = before;
       else
         frames += static_cast<int>(e - c);

@@ -150,8 +150,8 @@ BalancePlan plan_reference_balance(const RobotModel& model, RobotData& data, con
   // Judged where the reference determines it: not in the lead-in, and not in the clip's last 1/ω
   // (the pendulum's time constant, sqrt(z_c/g)): a clip cut mid-step ends with its COM falling
   // towards a step the clip no longer shows, and a plan with a free end then lets the COM run off
-  // in those last samples to keep the ZMP on the last foot (on the Bandai walk for humanoid25,
-  // 4 mm of shift 0.25 s before the end became 12 cm at the last sample).
+  // in those last samples to keep the ZMP on the last foot (on the Bandai walk for humanoid25, a
+  // shift of a few mm 0.25 s before the end became 12 cm at the last sample).
   const int end_guard = std::min(K - lead - 1, static_cast<int>(std::lround(std::sqrt(plan.com_height_m.mean() / kGravity) / dt)));
   const int judged_end = K - std::max(0, end_guard);
   double sq = 0;
