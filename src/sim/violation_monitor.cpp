@@ -203,9 +203,10 @@ void ViolationMonitor::observe(const ControlInput& in, const ControlOutput& ctl)
     // pivot) slides at its toe and heel while its centre stays put.
     const Eigen::Matrix<double, 6, 1> twist = link_jacobian(model, data, sole.link, sole.p_L_center) * v;
     const Vec3 v_centre = twist.head<3>(), omega = twist.tail<3>();
-    const Mat3 R_W_L = link_pose(model, data, sole.link).linear();
+    const Iso3 X = link_pose(model, data, sole.link);
+    const std::array<Vec3, 4> corners_L = sole.corners_L();
     double speed = v_centre.head<2>().norm();
-    for (const Vec3& c : sole.corners_L()) speed = std::max(speed, (v_centre + omega.cross(R_W_L * (c - sole.p_L_center))).head<2>().norm());
+    for (const Vec3& c : corners_L) speed = std::max(speed, (v_centre + omega.cross(X.linear() * (c - sole.p_L_center))).head<2>().norm());
     foot_speed[fi] = speed;
     const bool sliding = r.contact[fi] && feet.loaded[fi] && speed > o.slip_speed_mps;
     slip_[fi].update(t_clip, sliding, speed,
@@ -213,10 +214,8 @@ void ViolationMonitor::observe(const ControlInput& in, const ControlOutput& ctl)
                                       speed, v_centre.head<2>().norm(), std::abs(omega.z()))
                              : "",
                      out);
-    if (feet.loaded[fi]) {
-      const Iso3 X = link_pose(model, data, sole.link);
-      for (const Vec3& c : sole.corners_L()) support_pts.push_back((X * c).head<2>());
-    }
+    if (feet.loaded[fi])
+      for (const Vec3& c : corners_L) support_pts.push_back((X * c).head<2>());
   }
   const SupportPolygon support = SupportPolygon::convex_hull(support_pts);
   if (touching && !support.empty()) {
