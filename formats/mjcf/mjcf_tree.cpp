@@ -101,6 +101,13 @@ std::vector<const MjcfJoint*> MjcfTree::movable_joints() const {
 MjcfTree parse_mjcf_tree(const std::string& xml_text, const std::string& file) {
   MjcfTree tree;
   tree.file = file;
+  // tinyxml steps over a multi-byte sequence by its lead byte alone: reject what is not UTF-8
+  // before it could read past the end.
+  if (const std::size_t bad = first_invalid_utf8(xml_text); bad != std::string::npos) {
+    const TextPosition at = text_position(xml_text, bad);
+    throw InputError(format("%s:%d:%d", file.c_str(), at.line, at.column),
+                     format("byte 0x%02X is not UTF-8; save the file as UTF-8", static_cast<unsigned char>(xml_text[bad])));
+  }
   TiXmlDocument doc;
   doc.Parse(xml_text.c_str(), nullptr, TIXML_ENCODING_UTF8);
   if (doc.Error())

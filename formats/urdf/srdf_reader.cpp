@@ -7,13 +7,19 @@
 
 #include "retarget/core/error.hpp"
 #include "retarget/core/file_io.hpp"
+#include "retarget/core/strings.hpp"
 
 namespace rt {
 
 std::vector<SrdfGroupState> read_srdf_group_states(const std::string& path) {
   const std::string text = read_file(path, 16u << 20);
+  if (const std::size_t bad = first_invalid_utf8(text); bad != std::string::npos) {
+    const TextPosition at = text_position(text, bad);
+    throw InputError(path + ":" + std::to_string(at.line) + ":" + std::to_string(at.column),
+                     format("byte 0x%02X is not UTF-8; save the file as UTF-8", static_cast<unsigned char>(text[bad])));
+  }
   TiXmlDocument doc;
-  doc.Parse(text.c_str());
+  doc.Parse(text.c_str(), nullptr, TIXML_ENCODING_UTF8);
   if (doc.Error()) throw InputError(path + ":" + std::to_string(doc.ErrorRow()), std::string("not XML: ") + doc.ErrorDesc());
   const TiXmlElement* robot = doc.RootElement();
   if (!robot || std::string(robot->Value()) != "robot") throw InputError(path, "no <robot> element");

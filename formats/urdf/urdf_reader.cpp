@@ -252,6 +252,12 @@ void Reader::index_xml(const std::string& xml) {
   if (xml.size() >= 2 && ((xml[0] == '\xff' && xml[1] == '\xfe') || (xml[0] == '\xfe' && xml[1] == '\xff') ||
                           (xml[0] == '<' && xml[1] == '\0') || (xml[0] == '\0' && xml[1] == '<')))
     fail(1, "the file is UTF-16 encoded; save it as UTF-8");
+  // tinyxml steps over a multi-byte sequence by its lead byte alone, so a lead byte near the end
+  // of the text would make it read past it.
+  if (const std::size_t bad = first_invalid_utf8(xml); bad != std::string::npos) {
+    const TextPosition at = text_position(xml, bad);
+    fail(at.line, format("byte 0x%02X at column %d is not UTF-8; save the file as UTF-8", static_cast<unsigned char>(xml[bad]), at.column));
+  }
   const XmlShape shape = xml_shape(xml);
   if (shape.deepest > kMaxNesting)
     fail(0, "XML elements nested more than " + std::to_string(kMaxNesting) + " deep: not a URDF");

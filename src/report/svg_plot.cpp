@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "retarget/core/error.hpp"
+#include "retarget/core/strings.hpp"
 
 namespace rt::svg {
 
@@ -535,20 +536,13 @@ std::string escape_xml(const std::string& text) {
       ++i;
       continue;
     }
-    // Multi-byte UTF-8: accept only well-formed, shortest-form scalar values that XML allows.
-    const int len = c >= 0xF0 && c <= 0xF4 ? 4 : c >= 0xE0 ? (c <= 0xEF ? 3 : 0) : c >= 0xC2 ? 2 : 0;
-    std::uint32_t cp = len == 4 ? c & 0x07u : len == 3 ? c & 0x0Fu : c & 0x1Fu;
-    bool ok = len > 0 && i + static_cast<std::size_t>(len) <= n;
-    for (int k = 1; ok && k < len; ++k) {
-      const unsigned char cc = s[i + static_cast<std::size_t>(k)];
-      ok = (cc & 0xC0) == 0x80;
-      cp = (cp << 6) | (cc & 0x3Fu);
-    }
-    ok = ok && !(len == 3 && cp < 0x800) && !(len == 4 && (cp < 0x10000 || cp > 0x10FFFF)) &&
-         !(cp >= 0xD800 && cp <= 0xDFFF) && cp != 0xFFFE && cp != 0xFFFF;
+    // Multi-byte UTF-8: accept only well-formed, shortest-form scalar values that XML allows
+    // (not the noncharacters U+FFFE and U+FFFF, EF BF BE and EF BF BF).
+    const std::size_t len = utf8_sequence_length(text, i);
+    const bool ok = len > 0 && !(len == 3 && c == 0xEF && s[i + 1] == 0xBF && (s[i + 2] == 0xBE || s[i + 2] == 0xBF));
     if (ok) {
-      out.append(text, i, static_cast<std::size_t>(len));
-      i += static_cast<std::size_t>(len);
+      out.append(text, i, len);
+      i += len;
     } else {
       out += kReplacement;
       ++i;

@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "model_cache.hpp"
+#include "support/test_paths.hpp"
 #include "retarget/model/kinematics.hpp"
 
 namespace rt {
@@ -30,6 +31,7 @@ VecX pose_at(const RobotModel& model, double t) {
 }
 
 TEST(Centroidal, AngularMomentumEqualsTheSumOverLinks) {
+  RT_REQUIRE_SHARED(urdf, "robots/unitree_g1/g1_29dof_rev_1_0.urdf");  // robots/g1 points there
   const RobotModel& model = test::cached_robot("g1");
   RobotData data(model);
   const double t = 0.7, h = 1e-6;
@@ -71,6 +73,7 @@ TEST(Centroidal, AngularMomentumEqualsTheSumOverLinks) {
 
 // L = A_L(q) v for any v: the matrix against centroidal_momentum's angular part.
 TEST(Centroidal, AngularMatrixTimesVelocityIsTheAngularMomentum) {
+  RT_REQUIRE_SHARED(urdf, "robots/unitree_g1/g1_29dof_rev_1_0.urdf");  // robots/g1 points there
   const RobotModel& model = test::cached_robot("g1");
   RobotData data(model);
   const double t = 1.3, h = 1e-6;
@@ -86,6 +89,7 @@ TEST(Centroidal, AngularMatrixTimesVelocityIsTheAngularMomentum) {
 }
 
 TEST(Centroidal, StandingStillHasItsZmpUnderTheCom) {
+  RT_REQUIRE_SHARED(urdf, "robots/unitree_g1/g1_29dof_rev_1_0.urdf");  // robots/g1 points there
   const RobotModel& model = test::cached_robot("g1");
   RobotData data(model);
   const MatX q = model.standing_q().replicate(1, 10);
@@ -96,6 +100,7 @@ TEST(Centroidal, StandingStillHasItsZmpUnderTheCom) {
 // A rigid translation with constant horizontal acceleration a: p = c − c_z a / g exactly (no
 // rotation, so no angular momentum rate).
 TEST(Centroidal, AcceleratingBodyFollowsTheCartTable) {
+  RT_REQUIRE_SHARED(urdf, "robots/unitree_g1/g1_29dof_rev_1_0.urdf");  // robots/g1 points there
   const RobotModel& model = test::cached_robot("g1");
   RobotData data(model);
   const double fps = 100, a = 1.5;

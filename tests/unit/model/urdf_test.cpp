@@ -186,6 +186,17 @@ TEST(UrdfBroken, HostileInputsFailFastWithoutCrashing) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("UTF-16"), std::string::npos) << e.what();
   }
+  // A multi-byte lead byte followed by ASCII at the end of the text (found by the fuzzer: tinyxml
+  // stepped over it by its lead byte and read past the end).
+  std::string cut = chain(2);
+  cut.replace(cut.rfind("</robot>"), 0, "\n  \xEF<");
+  try {
+    read_urdf_string(cut, "cut.urdf", ".");
+    FAIL() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("byte 0xEF at column 3 is not UTF-8"), std::string::npos) << e.what();
+    EXPECT_EQ(std::string(e.what()).rfind("cut.urdf:", 0), 0u) << e.what();
+  }
 }
 
 TEST(UrdfCapture, NothingIsPrintedAndTheHandlerIsRestored) {

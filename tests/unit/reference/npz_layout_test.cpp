@@ -99,6 +99,8 @@ TEST(MjcfTree, BadFilesAreLocatedOneLineErrors) {
                            {"bad.xml:2", "type 'ball'"});
   test::expect_input_error(parse("<mujoco><worldbody>\n<include file='robot.xml'/></worldbody></mujoco>"),
                            {"bad.xml:2", "<include>"});
+  test::expect_input_error(parse("<mujoco><worldbody>\n <body name='\xE9'/></worldbody></mujoco>"),
+                           {"bad.xml:2:14", "byte 0xE9 is not UTF-8"});
 }
 
 TEST(NpzLayout, UrdfLayoutIsRootThenEveryLinkAndExportOrder) {
