@@ -97,6 +97,85 @@ MatX smooth_motion(const RobotModel& model, const MatX& q, double fps, const Ref
   return out;
 }
 
+// A leg as two points the root-height bound needs: its hip (the origin of the movable joint
+// nearest the root, which moves with the root) and its ankle (that of the movable joint nearest
+// the foot, fixed in the sole frame), and the longest distance between them (the leg straight,
+// as at the neutral pose of every robot here).
+struct LegReach {
+  int hip_link = -1;           ///< child link of the hip joint (its origin is the joint's)
+  Vec3 ankle_S = Vec3::Zero(); ///< [m] ankle point in the sole frame, from the sole centre
+  double length_m = 0;
+};
+
+std::array<LegReach, 2> leg_reaches(const RobotModel& model, RobotData& data, const std::array<Mat3, 2>& R_L_sole) {
+  std::array<LegReach, 2> legs;
+  VecX q_neutral = model.standing_q();
+  q_neutral.tail(model.nu()).setZero();
+  update_kinematics(model, data, q_neutral);
+  for (int foot = 0; foot < 2; ++foot) {
+    const auto k = static_cast<std::size_t>(foot);
+    const Sole& sole = model.soles()[k];
+    int hip = -1, ankle = -1;
+    for (int l = sole.link; l >= 0 && model.links()[static_cast<std::size_t>(l)].parent_joint >= 0;) {
+      const Joint& j = model.joints()[static_cast<std::size_t>(model.links()[static_cast<std::size_t>(l)].parent_joint)];
+      if (j.qpos_index >= 0 && j.type != JointType::Floating) {
+        if (ankle < 0) ankle = j.child_link;
+        hip = j.child_link;
+      }
+      l = j.parent_link;
+    }
+    if (hip < 0 || hip == ankle) continue;  // no leg to bend: no bound from this foot
+    const Iso3 X_sole = link_pose(model, data, sole.link);
+    const Vec3 p_ankle = link_pose(model, data, ankle).translation();
+    legs[k].hip_link = hip;
+    legs[k].ankle_S = R_L_sole[k].transpose() * (X_sole.inverse() * p_ankle - sole.p_L_center);
+    legs[k].length_m = (link_pose(model, data, hip).translation() - p_ankle).norm();
+  }
+  return legs;
+}
+
+// Step 4b of the header: the root height of `q` (the smoothed motion) kept, on every frame, below
+// the height from which both legs still reach their planned soles less `margin_m` (the hip rises
+// with the root; the root's orientation is kept), and with a vertical acceleration within
+// [-fall, rise] m/s² wherever a foot is in stance (a flight is left alone). The per-frame IK
+// lowers the root for a frame or two where a leg cannot reach, the stride of a double support
+// that a person bridges on heel and toe, and pops it back at the lift-off: 1-2 g the robot would
+// have to make through its soles. Under the bound the dip is spread out instead: the root stays
+// lower for longer and the knees bend. Returns the frames where a bound or a limit is active.
+int lower_root_to_reach(const RobotModel& model, RobotData& data, const std::array<LegReach, 2>& legs,
+                        const refine::FootPlan& plan, double rise, double fall, double margin_m, double fps,
+                        double lambda, MatX& q) {
+  const Eigen::Index T = q.cols();
+  if (T < 3) return 0;
+  std::vector<double> z(static_cast<std::size_t>(T)), hi(static_cast<std::size_t>(T)), x;
+  std::vector<bool> stance(static_cast<std::size_t>(T), false);
+  for (Eigen::Index f = 0; f < T; ++f) {
+    const auto fs = static_cast<std::size_t>(f);
+    z[fs] = q(2, f);
+    double up = 1e300;  // [m] how far the root could rise with both soles on their targets
+    update_kinematics(model, data, q.col(f));
+    for (int foot = 0; foot < 2; ++foot) {
+      const auto k = static_cast<std::size_t>(foot);
+      const refine::FootTarget& ft = plan.feet[k][fs];
+      stance[fs] = stance[fs] || ft.mode == refine::FootMode::Stance;
+      if (ft.mode != refine::FootMode::Stance || legs[k].hip_link < 0) continue;  // a swing leg folds
+      const Vec3 d = link_pose(model, data, legs[k].hip_link).translation() - (ft.pose.p_W + ft.pose.R_W * legs[k].ankle_S);
+      const double reach = legs[k].length_m - margin_m, horizontal = d.head<2>().squaredNorm();
+      up = std::min(up, horizontal < reach * reach ? std::sqrt(reach * reach - horizontal) - d.z() : -d.z());
+    }
+    hi[fs] = z[fs] + std::min(0.0, up);
+  }
+  refine::CeilingOptions o;
+  o.lambda = lambda;
+  o.ceiling = hi;
+  o.max_rise = rise / (fps * fps);
+  o.max_fall = fall / (fps * fps);
+  o.curvature_rows = stance;
+  const refine::CeilingReport rep = refine::smooth_under_ceiling(z, o, x);
+  for (Eigen::Index f = 0; f < T; ++f) q(2, f) = x[static_cast<std::size_t>(f)];
+  return rep.active;
+}
+
 // Moves each anchor to where its sole can lie flat: the robot's leg may not reach the IK result's
 // sole flat (an ankle-roll limit under a wide stance, a pitched foot), so with the root held at the
 // IK pose of three frames of the phase (a quarter, half and three quarters in), the leg is solved
@@ -232,6 +311,10 @@ std::vector<MatX> landmark_metric(const RobotModel& model, RobotData& data, cons
 
 RefinePass::RefinePass() {
   table_.add("smoothing_hz", options_.smoothing_hz, "[Hz] cutoff of the joint-space smoother (0: no smoothing)", {0, 1000, "Hz"});
+  table_.add("root_rise_accel", options_.root_rise_accel,
+             "[m/s^2] largest upward acceleration of the root height while a foot is in stance (0: no limit)", {0, 1000, "m/s^2"});
+  table_.add("root_fall_accel", options_.root_fall_accel,
+             "[m/s^2] largest downward acceleration of the root height while a foot is in stance (0: no limit)", {0, 1000, "m/s^2"});
   table_.add("robust_threshold", options_.robust_threshold, "[sigma] samples this far from the smoothed curve are weighted down (0: plain)");
   table_.add("velocity_margin", options_.velocity_margin, "fraction of each joint speed limit kept free");
   table_.add("max_joint_speed", options_.max_joint_speed, "[rad/s] cap on every joint's speed below its URDF limit (0: none)");
@@ -301,7 +384,12 @@ void RefinePass::run(Clip& clip, PassContext& ctx) {
 
   // Who absorbs a foot's correction: the legs; the root and the rest of the body (whose landmarks
   // the smoothed motion tracks) are 30-100 times stiffer.
-  const VecX stiffness = refine::legs_first_stiffness(model);
+  constexpr double kRootHeightStiffness = 100;
+  const bool root_limits = o.root_rise_accel > 0 || o.root_fall_accel > 0;
+  VecX stiffness = refine::legs_first_stiffness(model);
+  // The root height was set under the legs' reach (lower_root_to_reach): the legs bend to it
+  // rather than the root rising back into the dips it was smoothed out of.
+  if (root_limits) stiffness[2] *= kRootHeightStiffness;
   std::vector<int> metric_dofs{0, 1, 2, 3, 4, 5};
   for (int foot = 0; foot < 2; ++foot)
     for (int d : link_dof_chain(model, model.soles()[static_cast<std::size_t>(foot)].link))
@@ -497,7 +585,11 @@ void RefinePass::run(Clip& clip, PassContext& ctx) {
   // the round with the fewest violations is kept.
   MatX q = q_in, q_best;
   refine::CorrectionReport correction;
-  int rounds = 0, active_rows = 0, downweighted = 0, fallback_frames = 0, best_fallback_frames = 0;
+  // The root height's bound keeps the legs this far [m] from straight: a straight knee is a
+  // singular pose for the projection and for a controller.
+  constexpr double kReachMargin = 0.005;
+  const std::array<LegReach, 2> legs = root_limits ? leg_reaches(model, data, R_L_sole) : std::array<LegReach, 2>{};
+  int rounds = 0, active_rows = 0, downweighted = 0, fallback_frames = 0, best_fallback_frames = 0, root_rows = 0;
   int best_violations = -1, previous_violations = velocity_before;
   // Wall time per stage [ms], all rounds (the -v statistics).
   double ms_smooth = 0, ms_project = 0, ms_metric = 0, ms_correct = 0, ms_fallback = 0;
@@ -511,7 +603,7 @@ void RefinePass::run(Clip& clip, PassContext& ctx) {
     rounds = round + 1;
     lap(ms_fallback);  // (the speed check of the previous round)
     active_rows = downweighted = 0;
-    const MatX q_smooth = smooth_motion(model, q, fps, o, speed_limit, &active_rows, &downweighted);
+    MatX q_smooth = smooth_motion(model, q, fps, o, speed_limit, &active_rows, &downweighted);
     if (round == 0) {  // 4. the feet's targets, shaped from the first smoothing of the IK motion
       refine::FootPlanOptions fo;
       fo.clearance_m = o.swing_clearance_m;
@@ -519,6 +611,9 @@ void RefinePass::run(Clip& clip, PassContext& ctx) {
       for (int foot = 0; foot < 2; ++foot) fo.sole_size_m[static_cast<std::size_t>(foot)] = model.soles()[static_cast<std::size_t>(foot)].size_m;
       plan = refine::plan_feet(anchors, sole_poses(model, data, q_smooth, R_L_sole), contacts, fps, fo);
     }
+    if (root_limits)
+      root_rows = lower_root_to_reach(model, data, legs, plan, o.root_rise_accel > 0 ? o.root_rise_accel : 1e300,
+                                      o.root_fall_accel > 0 ? o.root_fall_accel : 1e300, kReachMargin, fps, co.lambda, q_smooth);
     lap(ms_smooth);
     // Each frame on its own first (every row met, jittery), then smoothly over the clip from there.
     MatX q_frames(model.nq(), T);
@@ -569,6 +664,7 @@ void RefinePass::run(Clip& clip, PassContext& ctx) {
   ctx.statistics.set("stance-anchors", static_cast<double>(anchors.size()));
   ctx.statistics.set("rounds", rounds, "", "smooth + project");
   ctx.statistics.set("smoother-active-rows", active_rows, "", "position or speed limits met by the smoother (last round)");
+  ctx.statistics.set("root-height-bound-rows", root_rows, "frames", "root height held at the legs' reach (last round)");
   ctx.statistics.set("smoother-downweighted", downweighted, "samples", "coordinates x frames treated as outliers (last round)");
   ctx.statistics.set("correction-iterations", correction.iterations, "",
                      format("Gauss-Newton over the clip, %d coordinates, %d cost evaluations (last round)", correction.coordinates,

@@ -40,6 +40,19 @@ bool solve_pentadiagonal(std::vector<double> d, std::vector<double> e, std::vect
 
 namespace {
 
+// Adds weight · Σ_f (x_{f−1} − 2 x_f + x_{f+1})² to a pentadiagonal matrix (diag, off1, off2 as in
+// solve_pentadiagonal).
+void add_second_differences(double weight, std::vector<double>& d, std::vector<double>& e, std::vector<double>& c) {
+  for (std::size_t f = 1; f + 1 < d.size(); ++f) {
+    d[f - 1] += weight;
+    d[f] += 4 * weight;
+    d[f + 1] += weight;
+    e[f - 1] += -2 * weight;
+    e[f] += -2 * weight;
+    c[f - 1] += weight;
+  }
+}
+
 // One weighted solve with the active set of bounds and rate rows (the header's first paragraph).
 SmoothReport solve_weighted(const std::vector<double>& y, const std::vector<double>& w, const SmoothOptions& o,
                             std::vector<double>& x) {
@@ -51,15 +64,7 @@ SmoothReport solve_weighted(const std::vector<double>& y, const std::vector<doub
     report.rounds = round + 1;
     std::vector<double> d = w, e(n, 0.0), c(n, 0.0), b(n);
     for (std::size_t f = 0; f < n; ++f) b[f] = w[f] * y[f];
-    const double L = o.lambda;
-    for (std::size_t f = 1; f + 1 < n; ++f) {  // λ (x_{f-1} − 2 x_f + x_{f+1})²
-      d[f - 1] += L;
-      d[f] += 4 * L;
-      d[f + 1] += L;
-      e[f - 1] += -2 * L;
-      e[f] += -2 * L;
-      c[f - 1] += L;
-    }
+    add_second_differences(o.lambda, d, e, c);
     for (std::size_t f = 0; f < n; ++f)
       if (pos[f]) {
         d[f] += o.penalty;
@@ -132,6 +137,70 @@ SmoothReport smooth_signal(const std::vector<double>& y, const SmoothOptions& o,
     report = solve_weighted(y, w, o, x);
     report.downweighted = down;
     if (down == 0) break;
+  }
+  return report;
+}
+
+CeilingReport smooth_under_ceiling(const std::vector<double>& y, const CeilingOptions& o, std::vector<double>& x) {
+  CeilingReport report;
+  const std::size_t n = y.size();
+  x = y;
+  if (n < 3 || o.ceiling.size() != n) {
+    for (std::size_t f = 0; f < n && f < o.ceiling.size(); ++f) x[f] = std::min(x[f], o.ceiling[f]);
+    return report;
+  }
+  // Constraint rows A x: the n samples, then the n second differences (rows 0 and n-1 unbounded).
+  std::vector<double> lo(2 * n, -1e300), hi(2 * n, 1e300);
+  for (std::size_t f = 0; f < n; ++f) hi[f] = o.ceiling[f];
+  for (std::size_t f = 1; f + 1 < n; ++f)
+    if (o.curvature_rows.size() != n || o.curvature_rows[f]) lo[n + f] = -o.max_fall, hi[n + f] = o.max_rise;
+  auto apply_A = [&](const std::vector<double>& v, std::vector<double>& out) {
+    out.assign(2 * n, 0.0);
+    for (std::size_t f = 0; f < n; ++f) out[f] = v[f];
+    for (std::size_t f = 1; f + 1 < n; ++f) out[n + f] = v[f - 1] - 2 * v[f] + v[f + 1];
+  };
+  auto apply_At = [&](const std::vector<double>& w, std::vector<double>& out) {
+    out.assign(n, 0.0);
+    for (std::size_t f = 0; f < n; ++f) out[f] = w[f];
+    for (std::size_t f = 1; f + 1 < n; ++f) {
+      out[f - 1] += w[n + f];
+      out[f] -= 2 * w[n + f];
+      out[f + 1] += w[n + f];
+    }
+  };
+  // ½ xᵀ P x + qᵀ x with P = 2 (I + λ D₂ᵀD₂), q = −2 y; the ADMM matrix P + σ I + ρ AᵀA, where
+  // AᵀA = I + D₂ᵀD₂, is pentadiagonal.
+  const double sigma = 1e-6, rho = 2 * (1 + o.lambda), alpha = 1.6;
+  const double a_d = 2 + sigma + rho, a_dd = 2 * o.lambda + rho;  // identity and D₂ᵀD₂ parts
+  std::vector<double> diag(n, a_d), off1(n, 0.0), off2(n, 0.0);
+  add_second_differences(a_dd, diag, off1, off2);
+  std::vector<double> z, u(2 * n, 0.0), rhs(n), At, Ax, z_prev;
+  apply_A(x, z);
+  for (std::size_t i = 0; i < 2 * n; ++i) z[i] = std::clamp(z[i], lo[i], hi[i]);
+  for (int it = 0; it < o.max_iterations; ++it) {
+    report.iterations = it + 1;
+    std::vector<double> w(2 * n);
+    for (std::size_t i = 0; i < 2 * n; ++i) w[i] = rho * z[i] - u[i];
+    apply_At(w, At);
+    for (std::size_t f = 0; f < n; ++f) rhs[f] = sigma * x[f] + 2 * y[f] + At[f];
+    if (!solve_pentadiagonal(diag, off1, off2, rhs)) break;  // not reached: the matrix is positive definite
+    x = rhs;
+    apply_A(x, Ax);
+    z_prev = z;
+    double primal = 0, dual = 0;
+    for (std::size_t i = 0; i < 2 * n; ++i) {
+      const double relaxed = alpha * Ax[i] + (1 - alpha) * z_prev[i];
+      z[i] = std::clamp(relaxed + u[i] / rho, lo[i], hi[i]);
+      u[i] += rho * (relaxed - z[i]);
+      primal = std::max(primal, std::abs(Ax[i] - z[i]));
+      dual = std::max(dual, std::abs(z[i] - z_prev[i]));
+    }
+    report.residual = primal;
+    if (primal < o.tolerance && dual < o.tolerance) break;
+  }
+  for (std::size_t f = 0; f < n; ++f) {
+    report.active += x[f] >= o.ceiling[f] - 10 * o.tolerance;
+    x[f] = std::min(x[f], o.ceiling[f]);
   }
   return report;
 }

@@ -44,6 +44,33 @@ struct SmoothReport {
 /// Smooths `y` (size T) into `x`.
 SmoothReport smooth_signal(const std::vector<double>& y, const SmoothOptions& options, std::vector<double>& x);
 
+/// A curve under per-sample ceilings with a bounded second difference:
+///
+///   min_x  Σ_f (x_f − y_f)² + λ Σ_f (x_{f−1} − 2 x_f + x_{f+1})²
+///   s.t.   x_f ≤ ceiling_f,   −max_fall ≤ x_{f−1} − 2 x_f + x_{f+1} ≤ max_rise  (rows with `curvature_rows[f]`)
+///
+/// solved by ADMM (the operator splitting of OSQP): every iteration is one pentadiagonal solve, so
+/// O(T) per iteration. Unlike the active set of smooth_signal, whose rows stay pinned once active,
+/// it releases rows, which a ceiling under a long stretch of samples needs.
+struct CeilingOptions {
+  double lambda = 0;                ///< second-difference weight (smoothing_lambda)
+  std::vector<double> ceiling;      ///< per sample (size T)
+  double max_rise = 1e300;          ///< largest second difference (per sample²)
+  double max_fall = 1e300;          ///< largest negative second difference (per sample²)
+  std::vector<bool> curvature_rows; ///< samples whose second difference is limited (empty: all)
+  int max_iterations = 2000;
+  double tolerance = 1e-5;          ///< primal and dual residual (the signal's units) to stop at
+};
+
+struct CeilingReport {
+  int iterations = 0;
+  int active = 0;                   ///< samples at their ceiling or at a curvature limit
+  double residual = 0;              ///< largest constraint violation before the final clamp
+};
+
+/// Smooths `y` into `x` under the ceilings; what ADMM leaves above a ceiling is clamped.
+CeilingReport smooth_under_ceiling(const std::vector<double>& y, const CeilingOptions& options, std::vector<double>& x);
+
 /// Symmetric positive-definite banded system with half-bandwidth 2, solved in place by LDLᵀ:
 /// diag[f], off1[f] = A(f, f+1), off2[f] = A(f, f+2). Returns false when not positive definite.
 bool solve_pentadiagonal(std::vector<double> diag, std::vector<double> off1, std::vector<double> off2, std::vector<double>& rhs);

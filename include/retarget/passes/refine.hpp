@@ -17,6 +17,11 @@
 /// 4. Plan the feet (refine/foot_plan.hpp, from the first smoothing): stance soles at their
 ///    anchors; swing soles re-timed between the anchors, flat and vertical at lift-off and
 ///    touchdown, with `swing_clearance` under their lowest corner.
+///    Opt-in (`root_rise_accel`, `root_fall_accel`): the smoothed root height is put under the
+///    height from which both legs reach their stance soles, with its vertical acceleration limited
+///    in stance (refine/signal_smoother.hpp, smooth_under_ceiling), and the projection and the
+///    correction hold it 100 times stiffer: the IK's root dips at each long double support (1-2 g
+///    up at the lift-off) are spread out and the knees bend instead.
 /// 5. Project each frame on its own: the least change (in generalised coordinates, the legs 30-100
 ///    times cheaper than the root and the rest) that puts its soles on their targets and every
 ///    collision point of the robot (collision_hull.hpp) above the floor — the landmark IK with
@@ -38,6 +43,8 @@ namespace rt {
 
 struct RefineOptions {
   double smoothing_hz = 6.0;         ///< [Hz] cutoff (half amplitude) of the joint-space smoother; 0 disables smoothing
+  double root_rise_accel = 0;        ///< [m/s²] largest upward acceleration of the root height in stance (0: none)
+  double root_fall_accel = 0;        ///< [m/s²] largest downward acceleration of the root height in stance (0: none)
   double robust_threshold = 3.0;     ///< [σ] samples this far from the smoothed curve are weighted down (Huber); 0: plain
   double velocity_margin = 0.02;     ///< fraction of each joint speed limit kept free
   double max_joint_speed = 0;        ///< [rad/s] optional cap on every joint's speed below its URDF limit (0: none)

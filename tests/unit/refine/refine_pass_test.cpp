@@ -90,6 +90,41 @@ TEST(RefinePass, SlowStepsExampleHoldsEveryStanceAndClearsEverySwing) {
   EXPECT_LT(c.quality.landmark_error_median_m, 0.05);
 }
 
+// The root height's limits (opt-in): on a real walk, where the per-frame IK drops the root by 4-5
+// cm for the frames of each double support and pops it back at the lift-off (about 2 g), the root
+// of the result accelerates within the limits in stance, and every stance is still held.
+TEST(RefinePass, RootHeightLimitsSpreadTheDoubleSupportDips) {
+  RT_REQUIRE_SHARED(bvh, "bvh/bandai2_walk-turn-left_normal_001.bvh");
+  const RobotModel& model = robot("humanoid25");
+  const std::string passes = "scale,label-contacts,ik,flat-contact,refine";
+  auto largest_stance_accel = [](const test::Converted& c, double* up, double* down) {
+    const MatX& q = c.clip.motion.q;
+    const double fps = c.clip.motion.fps;
+    *up = *down = 0;
+    for (Eigen::Index f = 1; f + 1 < q.cols(); ++f) {
+      const auto k = static_cast<std::size_t>(f);
+      if (!c.clip.contacts.in_contact[0][k] && !c.clip.contacts.in_contact[1][k]) continue;
+      const double a = (q(2, f - 1) - 2 * q(2, f) + q(2, f + 1)) * fps * fps;
+      *up = std::max(*up, a);
+      *down = std::max(*down, -a);
+    }
+  };
+  const test::Converted plain = test::convert(model, bvh, 0, passes);
+  const test::Converted limited = test::convert(model, bvh, 0, passes + "{root_rise_accel=3,root_fall_accel=2}");
+  double up_plain = 0, down_plain = 0, up = 0, down = 0;
+  largest_stance_accel(plain, &up_plain, &down_plain);
+  largest_stance_accel(limited, &up, &down);
+  EXPECT_GT(up_plain, 8.0);  // the dips are there without the limits
+  // The limits are on the smoothed motion; the projection and the smooth correction that put the
+  // feet back move the root by a millimetre here and there (4 m/s² at most here).
+  EXPECT_LT(up, 3.0 * 1.5);
+  EXPECT_LT(down, 2.0 * 1.5);
+  EXPECT_LT(up, 0.5 * up_plain);
+  EXPECT_GT(limited.refine->get("root-height-bound-rows", -1), 0);
+  test::expect_stance_held(limited.quality);
+  EXPECT_EQ(limited.quality.velocity_limit_violations, 0);
+}
+
 TEST(RefinePass, RejectsBadOptionsAndAMissingIk) {
   const RobotModel& model = robot("humanoid25");
   for (const char* bad : {"velocity_margin=1", "smoothing_hz=-1", "rounds=0", "max_iterations=0", "swing_clearance=-0.1",

@@ -99,6 +99,67 @@ TEST(SignalSmoother, RobustLossRemovesASpikeInsteadOfSmearingIt) {
   EXPECT_LT(std::abs(robust[50] - 0.3 * std::sin(50 * 0.03)), 1e-3);
 }
 
+// The root height of a double support: a walk's bob with a dip of 4 cm over three frames (the
+// legs' reach) at 30 fps; under a ceiling that follows the dip, with the second difference held to
+// ±2 m/s², the curve stays under the ceiling, keeps the limit and spreads the dip out.
+TEST(CeilingSmoother, StaysUnderTheCeilingWithinTheCurvatureLimits) {
+  const double fps = 30, a = 2.0 / (fps * fps);
+  const int n = 90;
+  std::vector<double> y(n), x;
+  CeilingOptions o;
+  o.lambda = smoothing_lambda(6, fps);
+  o.ceiling.assign(n, 1e300);
+  for (int f = 0; f < n; ++f) y[static_cast<std::size_t>(f)] = 0.75 + 0.01 * std::sin(2 * M_PI * 2 * f / fps);
+  for (int f = 44; f <= 46; ++f) o.ceiling[static_cast<std::size_t>(f)] = y[static_cast<std::size_t>(f)] - 0.04 + 0.01 * std::abs(f - 45);
+  o.max_rise = o.max_fall = a;
+  const CeilingReport r = smooth_under_ceiling(y, o, x);
+  EXPECT_LT(r.iterations, o.max_iterations);
+  EXPECT_GT(r.active, 0);
+  for (int f = 0; f < n; ++f) EXPECT_LE(x[static_cast<std::size_t>(f)], o.ceiling[static_cast<std::size_t>(f)]) << f;
+  for (int f = 1; f + 1 < n; ++f) {
+    const auto k = static_cast<std::size_t>(f);
+    EXPECT_LE(std::abs(x[k - 1] - 2 * x[k] + x[k + 1]), a * 1.05 + 1e-6) << f;
+  }
+  // The dip is spread: going down 4 cm at 2 m/s² takes about 9 frames, so the curve is already
+  // more than 1 cm lower 4 frames before the dip, where nothing bounds it, and back on the signal
+  // a second away from it.
+  EXPECT_LT(x[41], y[41] - 0.01);
+  EXPECT_LT(x[49], y[49] - 0.01);
+  EXPECT_NEAR(x[10], y[10], 2e-3);
+  EXPECT_NEAR(x[80], y[80], 2e-3);
+}
+
+// A ceiling under a long stretch must not pin the curve to every sample's ceiling: under a
+// jagged ceiling the curve is smooth (the active-set smoother pinned each active row for good).
+TEST(CeilingSmoother, AJaggedCeilingIsNotFollowedSampleBySample) {
+  const int n = 120;
+  std::vector<double> y(n, 1.0), x;
+  CeilingOptions o;
+  o.lambda = smoothing_lambda(3, 30);
+  o.ceiling.resize(n);
+  for (int f = 0; f < n; ++f) o.ceiling[static_cast<std::size_t>(f)] = 0.9 + (f % 2 ? 0.05 : 0.0);
+  const CeilingReport r = smooth_under_ceiling(y, o, x);
+  EXPECT_LT(r.iterations, o.max_iterations);
+  // It keeps every ceiling and rides the low ones; between them it may rise a little (the data
+  // pull it up, the smoothness weight lets them) but does not follow the 5 cm teeth.
+  for (int f = 5; f + 5 < n; ++f) {
+    const auto k = static_cast<std::size_t>(f);
+    EXPECT_LE(x[k], o.ceiling[k] + 1e-9);
+    EXPECT_GT(x[k], 0.9 - 1e-3);
+    EXPECT_LT(x[k], 0.905);
+  }
+  // Unconstrained, it is the Whittaker smoother.
+  CeilingOptions free = o;
+  free.ceiling.assign(n, 1e300);
+  std::vector<double> wave(n), smooth_a, smooth_b;
+  for (int f = 0; f < n; ++f) wave[static_cast<std::size_t>(f)] = std::sin(0.4 * f);
+  smooth_under_ceiling(wave, free, smooth_a);
+  SmoothOptions plain;
+  plain.lambda = o.lambda;
+  smooth_signal(wave, plain, smooth_b);
+  for (int f = 0; f < n; ++f) EXPECT_NEAR(smooth_a[static_cast<std::size_t>(f)], smooth_b[static_cast<std::size_t>(f)], 1e-4) << f;
+}
+
 TEST(SignalSmoother, ShortSignalsAreOnlyClamped) {
   std::vector<double> x;
   SmoothOptions o;
