@@ -143,7 +143,7 @@ std::array<LegReach, 2> leg_reaches(const RobotModel& model, RobotData& data, co
 // have to make through its soles. Under the bound the dip is spread out instead: the root stays
 // lower for longer and the knees bend. Returns the frames where a bound or a limit is active.
 int lower_root_to_reach(const RobotModel& model, RobotData& data, const std::array<LegReach, 2>& legs,
-                        const refine::FootPlan& plan, double rise, double fall, double margin_m, double fps,
+                        const refine::FootPlan& plan, double rise, double fall, double margin_m, double shift_m, double fps,
                         double lambda, MatX& q) {
   const Eigen::Index T = q.cols();
   if (T < 3) return 0;
@@ -152,18 +152,34 @@ int lower_root_to_reach(const RobotModel& model, RobotData& data, const std::arr
   for (Eigen::Index f = 0; f < T; ++f) {
     const auto fs = static_cast<std::size_t>(f);
     z[fs] = q(2, f);
-    double up = 1e300;  // [m] how far the root could rise with both soles on their targets
     update_kinematics(model, data, q.col(f));
+    std::array<Vec3, 2> d;  // hip from ankle [m], per stance foot
+    std::array<bool, 2> held{{false, false}};
     for (int foot = 0; foot < 2; ++foot) {
       const auto k = static_cast<std::size_t>(foot);
       const refine::FootTarget& ft = plan.feet[k][fs];
       stance[fs] = stance[fs] || ft.mode == refine::FootMode::Stance;
       if (ft.mode != refine::FootMode::Stance || legs[k].hip_link < 0) continue;  // a swing leg folds
-      const Vec3 d = link_pose(model, data, legs[k].hip_link).translation() - (ft.pose.p_W + ft.pose.R_W * legs[k].ankle_S);
-      const double reach = legs[k].length_m - margin_m, horizontal = d.head<2>().squaredNorm();
-      up = std::min(up, horizontal < reach * reach ? std::sqrt(reach * reach - horizontal) - d.z() : -d.z());
+      d[k] = link_pose(model, data, legs[k].hip_link).translation() - (ft.pose.p_W + ft.pose.R_W * legs[k].ankle_S);
+      held[k] = true;
     }
-    hi[fs] = z[fs] + std::min(0.0, up);
+    // How far [m] the root could rise with its stance soles on their targets, the root free to move
+    // horizontally by up to `shift_m` (as the projection does): the best of a small grid of shifts.
+    double best = -1e300;
+    constexpr int kGrid = 3;  // shifts of -shift_m .. shift_m in kGrid steps either way
+    for (int ix = -kGrid; ix <= kGrid; ++ix)
+      for (int iy = -kGrid; iy <= kGrid; ++iy) {
+        const Vec2 s = Vec2(ix, iy) * (shift_m / kGrid);
+        if (s.norm() > shift_m + 1e-12) continue;
+        double up = 1e300;
+        for (std::size_t k = 0; k < 2; ++k) {
+          if (!held[k]) continue;
+          const double reach = legs[k].length_m - margin_m, horizontal = (d[k].head<2>() + s).squaredNorm();
+          up = std::min(up, horizontal < reach * reach ? std::sqrt(reach * reach - horizontal) - d[k].z() : -d[k].z() - 1.0);
+        }
+        best = std::max(best, up);
+      }
+    hi[fs] = z[fs] + std::min(0.0, best);
   }
   refine::CeilingOptions o;
   o.lambda = lambda;
@@ -388,7 +404,8 @@ void RefinePass::run(Clip& clip, PassContext& ctx) {
   const bool root_limits = o.root_rise_accel > 0 || o.root_fall_accel > 0;
   VecX stiffness = refine::legs_first_stiffness(model);
   // The root height was set under the legs' reach (lower_root_to_reach): the legs bend to it
-  // rather than the root rising back into the dips it was smoothed out of.
+  // rather than the root rising back into the dips it was smoothed out of (10 times let them
+  // come back: up to 2-3 g again on the shared walks).
   if (root_limits) stiffness[2] *= kRootHeightStiffness;
   std::vector<int> metric_dofs{0, 1, 2, 3, 4, 5};
   for (int foot = 0; foot < 2; ++foot)
@@ -588,6 +605,9 @@ void RefinePass::run(Clip& clip, PassContext& ctx) {
   // The root height's bound keeps the legs this far [m] from straight: a straight knee is a
   // singular pose for the projection and for a controller.
   constexpr double kReachMargin = 0.005;
+  // ... and assumes the root may move this far [m] horizontally to reach them (the projection
+  // moves it): without that the bound asked the G1 Bandai walk for 3 cm more crouch than needed.
+  constexpr double kReachShift = 0.06;
   const std::array<LegReach, 2> legs = root_limits ? leg_reaches(model, data, R_L_sole) : std::array<LegReach, 2>{};
   int rounds = 0, active_rows = 0, downweighted = 0, fallback_frames = 0, best_fallback_frames = 0, root_rows = 0;
   int best_violations = -1, previous_violations = velocity_before;
@@ -613,7 +633,7 @@ void RefinePass::run(Clip& clip, PassContext& ctx) {
     }
     if (root_limits)
       root_rows = lower_root_to_reach(model, data, legs, plan, o.root_rise_accel > 0 ? o.root_rise_accel : 1e300,
-                                      o.root_fall_accel > 0 ? o.root_fall_accel : 1e300, kReachMargin, fps, co.lambda, q_smooth);
+                                      o.root_fall_accel > 0 ? o.root_fall_accel : 1e300, kReachMargin, kReachShift, fps, co.lambda, q_smooth);
     lap(ms_smooth);
     // Each frame on its own first (every row met, jittery), then smoothly over the clip from there.
     MatX q_frames(model.nq(), T);
