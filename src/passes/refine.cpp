@@ -137,13 +137,15 @@ std::array<LegReach, 2> leg_reaches(const RobotModel& model, RobotData& data, co
 // Step 4b of the header: the root height of `q` (the smoothed motion) kept, on every frame, below
 // the height from which both legs still reach their planned soles less `margin_m` (the hip rises
 // with the root; the root's orientation is kept), and with a vertical acceleration within
-// [-fall, rise] m/s² wherever a foot is in stance (a flight is left alone). The per-frame IK
+// [-fall, rise] m/s² wherever a foot is in stance (a flight is left alone). The bound lowers the
+// root by at most `max_drop_m` below its smoothed height: a stride the legs cannot reach without a
+// deeper crouch (PyMO's, 10-20 cm) is left to the projection, as without the bound. The per-frame IK
 // lowers the root for a frame or two where a leg cannot reach, the stride of a double support
 // that a person bridges on heel and toe, and pops it back at the lift-off: 1-2 g the robot would
 // have to make through its soles. Under the bound the dip is spread out instead: the root stays
 // lower for longer and the knees bend. Returns the frames where a bound or a limit is active.
 int lower_root_to_reach(const RobotModel& model, RobotData& data, const std::array<LegReach, 2>& legs,
-                        const refine::FootPlan& plan, double rise, double fall, double margin_m, double shift_m, double fps,
+                        const refine::FootPlan& plan, double rise, double fall, double margin_m, double shift_m, double max_drop_m, double fps,
                         double lambda, MatX& q) {
   const Eigen::Index T = q.cols();
   if (T < 3) return 0;
@@ -179,7 +181,7 @@ int lower_root_to_reach(const RobotModel& model, RobotData& data, const std::arr
         }
         best = std::max(best, up);
       }
-    hi[fs] = z[fs] + std::min(0.0, best);
+    hi[fs] = z[fs] + std::max(-max_drop_m, std::min(0.0, best));
   }
   refine::CeilingOptions o;
   o.lambda = lambda;
@@ -331,6 +333,8 @@ RefinePass::RefinePass() {
              "[m/s^2] largest upward acceleration of the root height while a foot is in stance (0: no limit)", {0, 1000, "m/s^2"});
   table_.add("root_fall_accel", options_.root_fall_accel,
              "[m/s^2] largest downward acceleration of the root height while a foot is in stance (0: no limit)", {0, 1000, "m/s^2"});
+  table_.add("root_max_drop", options_.root_max_drop_m,
+             "[m] with the root limits: how far below its smoothed height the legs' reach may put the root", {0, 1, "m"});
   table_.add("robust_threshold", options_.robust_threshold, "[sigma] samples this far from the smoothed curve are weighted down (0: plain)");
   table_.add("velocity_margin", options_.velocity_margin, "fraction of each joint speed limit kept free");
   table_.add("max_joint_speed", options_.max_joint_speed, "[rad/s] cap on every joint's speed below its URDF limit (0: none)");
@@ -633,7 +637,7 @@ void RefinePass::run(Clip& clip, PassContext& ctx) {
     }
     if (root_limits)
       root_rows = lower_root_to_reach(model, data, legs, plan, o.root_rise_accel > 0 ? o.root_rise_accel : 1e300,
-                                      o.root_fall_accel > 0 ? o.root_fall_accel : 1e300, kReachMargin, kReachShift, fps, co.lambda, q_smooth);
+                                      o.root_fall_accel > 0 ? o.root_fall_accel : 1e300, kReachMargin, kReachShift, o.root_max_drop_m, fps, co.lambda, q_smooth);
     lap(ms_smooth);
     // Each frame on its own first (every row met, jittery), then smoothly over the clip from there.
     MatX q_frames(model.nq(), T);

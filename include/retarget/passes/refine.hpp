@@ -18,7 +18,8 @@
 ///    anchors; swing soles re-timed between the anchors, flat and vertical at lift-off and
 ///    touchdown, with `swing_clearance` under their lowest corner.
 ///    Opt-in (`root_rise_accel`, `root_fall_accel`): the smoothed root height is put under the
-///    height from which both legs reach their stance soles, with its vertical acceleration limited
+///    height from which both legs reach their stance soles (at most `root_max_drop_m` below its
+///    smoothed height), with its vertical acceleration limited
 ///    in stance (refine/signal_smoother.hpp, smooth_under_ceiling), and the projection and the
 ///    correction hold it 100 times stiffer: the IK's root dips at each long double support (1-2 g
 ///    up at the lift-off) are spread out and the knees bend instead.
@@ -45,6 +46,7 @@ struct RefineOptions {
   double smoothing_hz = 6.0;         ///< [Hz] cutoff (half amplitude) of the joint-space smoother; 0 disables smoothing
   double root_rise_accel = 0;        ///< [m/s²] largest upward acceleration of the root height in stance (0: none)
   double root_fall_accel = 0;        ///< [m/s²] largest downward acceleration of the root height in stance (0: none)
+  double root_max_drop_m = 0.04;     ///< [m] with those limits: the deepest the legs' reach may put the root below its smoothed height
   double robust_threshold = 3.0;     ///< [σ] samples this far from the smoothed curve are weighted down (Huber); 0: plain
   double velocity_margin = 0.02;     ///< fraction of each joint speed limit kept free
   double max_joint_speed = 0;        ///< [rad/s] optional cap on every joint's speed below its URDF limit (0: none)
