@@ -143,7 +143,7 @@ std::array<LegReach, 2> leg_reaches(const RobotModel& model, RobotData& data, co
 // lowers the root for a frame or two where a leg cannot reach, the stride of a double support
 // that a person bridges on heel and toe, and pops it back at the lift-off: 1-2 g the robot would
 // have to make through its soles. Under the bound the dip is spread out instead: the root stays
-// lower for longer and the knees bend. Returns the frames where a bound or a limit is active.
+// lower for longer and the knees bend. Returns the number of frames held at the bound.
 int lower_root_to_reach(const RobotModel& model, RobotData& data, const std::array<LegReach, 2>& legs,
                         const refine::FootPlan& plan, double rise, double fall, double margin_m, double shift_m, double max_drop_m, double fps,
                         double lambda, MatX& q) {
@@ -177,6 +177,7 @@ int lower_root_to_reach(const RobotModel& model, RobotData& data, const std::arr
         for (std::size_t k = 0; k < 2; ++k) {
           if (!held[k]) continue;
           const double reach = legs[k].length_m - margin_m, horizontal = (d[k].head<2>() + s).squaredNorm();
+          // (Out of reach at any height: as low as max_drop_m allows.)
           up = std::min(up, horizontal < reach * reach ? std::sqrt(reach * reach - horizontal) - d[k].z() : -d[k].z() - 1.0);
         }
         best = std::max(best, up);

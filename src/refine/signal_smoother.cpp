@@ -174,12 +174,11 @@ CeilingReport smooth_under_ceiling(const std::vector<double>& y, const CeilingOp
   const double a_d = 2 + sigma + rho, a_dd = 2 * o.lambda + rho;  // identity and D₂ᵀD₂ parts
   std::vector<double> diag(n, a_d), off1(n, 0.0), off2(n, 0.0);
   add_second_differences(a_dd, diag, off1, off2);
-  std::vector<double> z, u(2 * n, 0.0), rhs(n), At, Ax, z_prev;
+  std::vector<double> z, u(2 * n, 0.0), w(2 * n), rhs(n), At, Ax, z_prev;
   apply_A(x, z);
   for (std::size_t i = 0; i < 2 * n; ++i) z[i] = std::clamp(z[i], lo[i], hi[i]);
   for (int it = 0; it < o.max_iterations; ++it) {
     report.iterations = it + 1;
-    std::vector<double> w(2 * n);
     for (std::size_t i = 0; i < 2 * n; ++i) w[i] = rho * z[i] - u[i];
     apply_At(w, At);
     for (std::size_t f = 0; f < n; ++f) rhs[f] = sigma * x[f] + 2 * y[f] + At[f];

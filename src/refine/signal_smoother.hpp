@@ -64,7 +64,7 @@ struct CeilingOptions {
 
 struct CeilingReport {
   int iterations = 0;
-  int active = 0;                   ///< samples at their ceiling or at a curvature limit
+  int active = 0;                   ///< samples at their ceiling
   double residual = 0;              ///< largest constraint violation before the final clamp
 };
 

@@ -19,10 +19,10 @@
 ///    touchdown, with `swing_clearance` under their lowest corner.
 ///    Opt-in (`root_rise_accel`, `root_fall_accel`): the smoothed root height is put under the
 ///    height from which both legs reach their stance soles (at most `root_max_drop_m` below its
-///    smoothed height), with its vertical acceleration limited
-///    in stance (refine/signal_smoother.hpp, smooth_under_ceiling), and the projection and the
-///    correction hold it 100 times stiffer: the IK's root dips at each long double support (1-2 g
-///    up at the lift-off) are spread out and the knees bend instead.
+///    smoothed height), with its vertical acceleration limited in stance
+///    (refine/signal_smoother.hpp, smooth_under_ceiling), and the projection and the correction
+///    hold it 100 times stiffer: the IK's root dips at each long double support (1-2 g up at the
+///    lift-off) are spread out and the knees bend instead.
 /// 5. Project each frame on its own: the least change (in generalised coordinates, the legs 30-100
 ///    times cheaper than the root and the rest) that puts its soles on their targets and every
 ///    collision point of the robot (collision_hull.hpp) above the floor — the landmark IK with
