@@ -11,8 +11,9 @@
 /// 2. A stance foot on every frame: a run of frames with no foot in contact is a flight phase only
 ///    when both feet are clearly airborne (above `airborne_height` for most of it); otherwise the
 ///    feet were on the floor but moving (a slide, a shuffle, a heel strike faster than the speed
-///    threshold), and the run is given to the foot that is lower and slower, split where the other
-///    foot becomes the better candidate.
+///    threshold): each frame of the run goes to the foot closer to the thresholds (lower and
+///    slower), with a cost per change of foot so that near-equal feet do not alternate, and a foot
+///    handed the weight in the middle of the run keeps it for at least `min_phase_s`.
 /// 3. Weight transfers: where one foot lifts off while the other is in contact, both are in contact
 ///    together for at least `min_double_support` (human walking has ~20 % double support): a
 ///    shorter overlap is widened symmetrically, never into a neighbouring phase of the same foot.

@@ -59,6 +59,36 @@ TEST(LabelFeet, AWeightTransferWithAGapGetsTheMinimumDoubleSupport) {
   EXPECT_GE(overlap(l.schedule, 30, 80), 8);  // 0.08 s at 100 fps
 }
 
+TEST(LabelFeet, AGapBetweenTwoStancesOfOneFootGoesToTheFootThatIsStill) {
+  const int T = 100;
+  // Left down until 40 and from 60; in between it kicks (8 cm up, 3 m/s). The right foot swings
+  // until 40 and after 60, and in between hovers still, 3.5 cm up (above the touch-down height):
+  // neither passes the thresholds, yet the right foot is the one that carries the weight.
+  std::array<FootTrack, 2> t = tracks(T, {run(T, 0, 40), run(T, 0, 0)});
+  for (int f = 60; f < T; ++f) t[0].height_m[static_cast<std::size_t>(f)] = 0, t[0].speed_mps[static_cast<std::size_t>(f)] = 0;
+  for (int f = 40; f < 60; ++f) {
+    t[0].height_m[static_cast<std::size_t>(f)] = 0.08, t[0].speed_mps[static_cast<std::size_t>(f)] = 3.0;
+    t[1].height_m[static_cast<std::size_t>(f)] = 0.035, t[1].speed_mps[static_cast<std::size_t>(f)] = 0.0;
+  }
+  const ContactLabelling l = label_feet(t, kFps, kLeg, {});
+  EXPECT_EQ(l.flight_phases, 0);
+  EXPECT_EQ(frames_without_stance(l.schedule), 0);
+  for (int f = 45; f < 55; ++f) {
+    EXPECT_FALSE(l.schedule.in_contact[0][static_cast<std::size_t>(f)]) << f;
+    EXPECT_TRUE(l.schedule.in_contact[1][static_cast<std::size_t>(f)]) << f;
+  }
+  EXPECT_GE(overlap(l.schedule, 30, 45), 8);  // both weight transfers keep their double support
+  EXPECT_GE(overlap(l.schedule, 55, 70), 8);
+  // Two feet alike in the gap (both low, both moving): no handing over and back, the left foot keeps it.
+  for (int f = 40; f < 60; ++f)
+    for (auto& ft : t) ft.height_m[static_cast<std::size_t>(f)] = 0.04, ft.speed_mps[static_cast<std::size_t>(f)] = 1.0;
+  const ContactLabelling alike = label_feet(t, kFps, kLeg, {});
+  for (int f = 40; f < 60; ++f) {
+    EXPECT_TRUE(alike.schedule.in_contact[0][static_cast<std::size_t>(f)]) << f;
+    EXPECT_FALSE(alike.schedule.in_contact[1][static_cast<std::size_t>(f)]) << f;
+  }
+}
+
 TEST(LabelFeet, AShortDoubleSupportIsWidenedSymmetrically) {
   const int T = 120;
   const ContactLabelling l = label_feet(tracks(T, {run(T, 0, 52), run(T, 50, T)}), kFps, kLeg, {});
