@@ -9,6 +9,7 @@
 // ZMP lies outside the labelled support. For diagnosing why a reference is not dynamically feasible.
 // With RT_PROBE_FRAMES set, one line per stance frame: time, contacts, the signed distance of the
 // ZMP and of the cart-table ZMP (COM only) from the support, the non-COM part's length.
+// A reference without a contact schedule (a third-party CSV) is labelled as `retarget validate` labels it.
 // Usage: probe_zmp_parts ROBOT REFERENCE(.csv with meta | .npz) [fps for a plain CSV]
 
 #include <mujoco/mujoco.h>
@@ -24,7 +25,9 @@
 #include "retarget/model/centroidal.hpp"
 #include "retarget/model/kinematics.hpp"
 #include "retarget/model/robot_model.hpp"
+#include "retarget/passes/label_contacts.hpp"
 #include "retarget/passes/stance_support.hpp"
+#include "retarget/reference/robot_mapping.hpp"
 #include "retarget/sim/reference_signal.hpp"
 
 namespace {
@@ -52,8 +55,13 @@ int main(int argc, char** argv) {
   }
   try {
     const auto model = RobotModel::load(argv[1]);
-    const Reference ref = read_reference_for(*model, argv[2], argc > 3 ? std::atof(argv[3]) : 0);
+    Reference ref = read_reference_for(*model, argv[2], argc > 3 ? std::atof(argv[3]) : 0);
     RobotData data(*model);
+    if (!ref.has_contacts()) {  // a third-party reference: labelled as `validate` labels it
+      Diagnostics diagnostics;
+      const ReferenceRobotMap map(*model, ref, argv[2]);
+      ref.contact = label_robot_contacts(*model, data, map.q_all(ref), ref.fps, {}, diagnostics, argv[2]).in_contact;
+    }
     const ReferenceSignal signal(*model, data, ref, 0.0);
     const MatX& q = signal.q_frames();
     const int T = static_cast<int>(q.cols());
