@@ -369,6 +369,7 @@ void WalkingController::maybe_replan(const ControlInput& in, const TrunkTransfor
   samples[static_cast<std::size_t>(M)].com_weight_scale = kPin;
   ZmpPlanOptions po = w.plan.plan;
   po.period_s = dt;
+  po.zmp_centre_weight = w.replan_zmp_centre_weight;
   po.rest_at_start = false;
   po.rest_at_end = false;
   const ZmpPlan z = plan_com_zmp(samples, po);

@@ -43,10 +43,15 @@ struct BalancePlanOptions {
   /// clip that starts mid-step has time to bring its COM over the first stance foot.
   double lead_in_s = 0.5;
   /// Weights (period and rest are set here). The ZMP is pulled to the support's centroid with
-  /// weight 1 [1/m²]: the controller then has margin on every side to correct errors.
+  /// weight 100 [1/m²] (the COM's own weight is 1): the controller then has margin on every side to
+  /// correct errors, and the weight moves onto the next stance foot in double support rather than
+  /// after the lift-off. With weight 1 the plan ran its ZMP along the stance sole's edge: any
+  /// tracking error at a lift-off was then beyond the COP's reach, and the G1 fell on the Bandai
+  /// walk played 1.5x, 2x and 4x slower (it walks the 1.5x one with 100). Centring only moves the
+  /// COM for margin: `heavy-correction` is judged on the plan without it.
   ZmpPlanOptions plan = [] {
     ZmpPlanOptions p;
-    p.zmp_centre_weight = 1.0;
+    p.zmp_centre_weight = 100.0;
     return p;
   }();
 };

@@ -74,6 +74,11 @@ struct WalkingControllerOptions {
   double replan_horizon_s = 0.8;    ///< [s] window (on the plan's grid, so its ZMP is the plan's)
   /// [m] DCM error below which the plan is kept: a feasible reference tracked well never re-plans.
   double replan_error_m = 0.02;
+  /// [1/m²] the window's pull of its ZMP to each sample's support centre, weak where the whole-clip
+  /// plan's (plan.plan.zmp_centre_weight) is strong: a window starts from an error, and recovering
+  /// from it needs the COP towards an edge (with the plan's 100, the Bandai walk limited in
+  /// root height failed for humanoid25 0.1 s before its end).
+  double replan_zmp_centre_weight = 1.0;
   // Foothold adjustment.
   bool foothold_adjustment = true;
   double foothold_threshold_m = 0.02;  ///< [m] DCM error that triggers an adjustment
