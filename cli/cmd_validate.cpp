@@ -49,7 +49,9 @@ Command setup_validate(CLI::App& parent) {
   app->add_flag("--json", o->json, "Print the report as JSON instead of the text summary");
   add_check_options(app, o->check);
   app->add_flag("--find-speed", o->find_speed,
-                "Search (bisection over the time scale) for the fastest playback at which the check passes");
+                "Search for the fastest playback (2x-0.25x) at which the check passes: bisection towards faster when 1x "
+                "passes; otherwise a scan from 1x towards 0.25x, then bisection (a slower walk may still fail: its COM must "
+                "come over each stance foot)");
   app->add_option("--package-path", o->package_paths, "Extra root folder for package:// URIs (repeatable)");
   app->footer("Exit status: 0 the check passed, 1 it failed (fall or unmet contact), 2 bad input.");
   return {app, [o, app] {
@@ -69,7 +71,7 @@ Command setup_validate(CLI::App& parent) {
               searching.stop();
               std::cout << format("%s on %s: ", o->reference.c_str(), model->name().c_str());
               if (!s.feasible)
-                std::cout << format("fails even at %.2fx speed\n", 1.0 / SpeedSearchOptions{}.max_time_scale);
+                std::cout << format("fails at every speed tried down to %.2fx\n", 1.0 / SpeedSearchOptions{}.max_time_scale);
               else
                 std::cout << format("passes at %.2fx speed (time scale %.3f)%s\n", s.speed, s.time_scale,
                                     s.passes_at_1x ? "" : "; fails at 1x");

@@ -88,8 +88,8 @@ ValidateResult run_validate(const ValidateRequest& request, const RobotModel& mo
 
 SpeedSearchResult find_feasible_speed(const Reference& reference, const RobotModel& model, const ValidateRequest& request,
                                       const SpeedSearchOptions& o) {
-  if (!(o.min_time_scale > 0 && o.min_time_scale <= 1 && o.max_time_scale >= 1))
-    throw InputError("--find-speed", "the time-scale bounds must satisfy 0 < min <= 1 <= max");
+  if (!(o.min_time_scale > 0 && o.min_time_scale <= 1 && o.max_time_scale >= 1 && o.scan_steps >= 1 && o.scan_steps <= 100))
+    throw InputError("--find-speed", "the time-scale bounds must satisfy 0 < min <= 1 <= max, with 1 to 100 scan steps");
   Reference labelled = reference;
   const bool contacts_labelled = !labelled.has_contacts();
   if (contacts_labelled) labelled = validate_reference(reference, model, request).reference;  // label once
@@ -114,8 +114,11 @@ SpeedSearchResult find_feasible_speed(const Reference& reference, const RobotMod
     fail = o.min_time_scale;
   } else {
     fail = 1.0;
-    if (!passes(o.max_time_scale)) return r;
-    pass = o.max_time_scale;
+    for (int k = 1; k <= o.scan_steps && !(pass > 0); ++k) {
+      const double S = std::pow(o.max_time_scale, static_cast<double>(k) / o.scan_steps);
+      (passes(S) ? pass : fail) = S;
+    }
+    if (!(pass > 0)) return r;
   }
   for (int i = 0; i < o.bisection_steps; ++i) {
     const double mid = std::sqrt(fail * pass);

@@ -37,11 +37,17 @@ Reference read_reference_for(const RobotModel& model, const std::string& path, d
 ValidateResult run_validate(const ValidateRequest& request, const RobotModel& model);
 
 /// Feasibility speed (issue 6): the fastest playback of the reference at which the check passes,
-/// found by bisection over the time scale S (the reference played S times slower; speed = 1/S).
+/// over the time scale S (the reference played S times slower; speed = 1/S). Passing is not
+/// monotone in S: a slower walk asks less of the controller but more of the balance plan (its COM
+/// must come over each stance foot, up to `heavy-correction`), so a walk may fail at 1x and at
+/// 0.25x and pass in between. When 1x fails, S is scanned from 1 towards the slowest on a
+/// log-spaced grid, fastest first, and the first pass is bisected against the failing S before it;
+/// when 1x passes, faster playback is bisected between 1 and the fastest.
 struct SpeedSearchOptions {
   double min_time_scale = 0.5;  ///< fastest tried: 2x speed
   double max_time_scale = 4.0;  ///< slowest tried: 0.25x speed
-  int bisection_steps = 5;      ///< after the bracket is found (log-scale bisection)
+  int scan_steps = 6;           ///< log-spaced S in (1, max_time_scale] tried when 1x fails
+  int bisection_steps = 4;      ///< after the bracket is found (log-scale bisection)
 };
 
 struct SpeedSearchResult {

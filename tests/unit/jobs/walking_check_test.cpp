@@ -3,12 +3,14 @@
 // that starts passing must update this file and the README's table too).
 //
 // Measured outcome with the walking controller (README, "What the check finds on real clips"):
-// humanoid25 walks the Bandai walk-turn-left at 1x; every other pair still fails at 1x, and no
-// playback speed between 2x and 0.25x passes. The check's balance plan needs COM shifts of 4-34 cm
-// to make the default pipeline's walks feasible (their multibody ZMP leaves the stance sole in
-// single support: issue 14), and even the nearly feasible ones fall within a few steps (issue 15 is
-// open). So what is pinned: the passing pair passes at 1x; the others fail at 1x, their first
-// failing violation starts in the first 6 s of the clip, and --find-speed finds no passing speed.
+// humanoid25 walks the Bandai walk-turn-left at 1x and GAMES-105 at 0.96x (issue 15's bar for a
+// walk that cannot pass at 1x is a passing speed of at least 0.67x); every other pair fails at
+// every speed tried between 1x and 0.25x. The check's balance plan needs COM shifts of 4-13 cm to
+// make the default pipeline's walks feasible (their multibody ZMP leaves the stance sole in single
+// support: issue 14), and even the nearly feasible ones fall within a few steps (issue 15 is
+// open). So what is pinned: the passing pair passes at 1x; the others fail at 1x with their first
+// failing violation in the first 6 s of the clip, and --find-speed finds a passing speed of at
+// least 0.67x for the one pinned so and none for the others.
 // Skips cleanly without ../shared/data.
 
 #include <gtest/gtest.h>
@@ -32,6 +34,7 @@ struct Case {
   const char* robot;
   const char* clip;  // relative to the shared data folder
   bool passes = false;  // at 1x
+  bool passes_slower = false;  // fails at 1x, --find-speed finds a speed >= 0.67x
 };
 
 const char* const kRobots[] = {"humanoid25", "g1"};
@@ -42,7 +45,8 @@ std::vector<Case> cases() {
   std::vector<Case> out;
   for (const char* r : kRobots)
     for (const char* c : kClips)
-      out.push_back({r, c, std::string(r) == "humanoid25" && std::string(c) == "bvh/bandai2_walk-turn-left_normal_001.bvh"});
+      out.push_back({r, c, std::string(r) == "humanoid25" && std::string(c) == "bvh/bandai2_walk-turn-left_normal_001.bvh",
+                     std::string(r) == "humanoid25" && std::string(c) == "bvh/games105_walk_and_turn_left.bvh"});
   return out;
 }
 
@@ -80,14 +84,20 @@ TEST_P(WalkingCheck, OutcomeIsPinned) {
 
   const SpeedSearchResult speed = find_feasible_speed(reference, model, request);
   EXPECT_FALSE(speed.passes_at_1x);
-  EXPECT_FALSE(speed.feasible) << "passes at " << speed.speed << "x: update the pinned outcome (test and README)";
   ASSERT_FALSE(speed.trials.empty());
-  EXPECT_DOUBLE_EQ(speed.trials.back().first, SpeedSearchOptions{}.max_time_scale);  // the slowest was tried
+  if (c.passes_slower) {
+    EXPECT_TRUE(speed.feasible) << "no passing speed any more: update the pinned outcome (test and README)";
+    EXPECT_GE(speed.speed, 0.67);
+    EXPECT_LT(speed.speed, 1.0);
+  } else {
+    EXPECT_FALSE(speed.feasible) << "passes at " << speed.speed << "x: update the pinned outcome (test and README)";
+    EXPECT_DOUBLE_EQ(speed.trials.back().first, SpeedSearchOptions{}.max_time_scale);  // the slowest was tried
+  }
 
-  std::cout << format("[ outcome  ] %-10s %-46s 1x: %s %s at %.2f s (%s); fell %s; slowest tried %.2fx: %s\n", c.robot,
-                      c.clip, at_1x.passed ? "passes" : "fails", violation_name(first->kind), first->start_s,
-                      first->detail.c_str(), at_1x.fell ? format("at %.2f s", at_1x.fall_time_s).c_str() : "no",
-                      1.0 / speed.trials.back().first, speed.trials.back().second ? "passes" : "fails");
+  std::cout << format("[ outcome  ] %-10s %-46s 1x: %s %s at %.2f s (%s); fell %s; %s\n", c.robot, c.clip,
+                      at_1x.passed ? "passes" : "fails", violation_name(first->kind), first->start_s, first->detail.c_str(),
+                      at_1x.fell ? format("at %.2f s", at_1x.fall_time_s).c_str() : "no",
+                      speed.feasible ? format("passes at %.2fx", speed.speed).c_str() : "no passing speed down to 0.25x");
 }
 
 INSTANTIATE_TEST_SUITE_P(HumanoidsOnRealWalks, WalkingCheck, ::testing::ValuesIn(cases()),
