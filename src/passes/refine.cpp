@@ -445,6 +445,9 @@ void RefinePass::run(Clip& clip, PassContext& ctx) {
   const LandmarkIk ik(model, ik_options);
   refine::FootPlan plan;
   std::vector<IkTarget> targets;
+  // A fresh solve at a touchdown or lift-off is kept only if no joint moves faster than this
+  // multiple of its speed limit from the previous frame (see project).
+  constexpr double kFreshJumpRatio = 6.0;
   int iterations = 0;
   // How well frame f holds the plan at the kinematics in `data`: the stance soles' distance [m]
   // and angle [rad] from their anchors, the depth [m] of the lowest collision point below the
@@ -505,8 +508,12 @@ void RefinePass::run(Clip& clip, PassContext& ctx) {
       }
       // Warm start: the previous frame's correction carried over. Across a touchdown or a lift-off
       // the frame is also solved afresh and that is kept only if it holds the rows much better (a
-      // warm start stuck on the wrong side of a flight); otherwise a leg with several solutions,
-      // e.g. H1's five joints, could jump to another one within a frame (170 rad/s on CMU 131_01).
+      // warm start stuck on the wrong side of a flight) and stays near the previous frame: a fresh
+      // solution that moves a joint more than kFreshJumpRatio times its speed limit in one frame is
+      // another solution branch of a leg with several (H1's five joints at the CMU 131_01 crossover
+      // touchdown: the trunk pitched from -47 to +47 deg and a hip by 1.4 rad between two frames,
+      // 170 rad/s once blended in). The warm start is kept there; the smooth correction and its
+      // speed rows take the rows it misses.
       VecX q_f = q_target_all.col(f);
       const bool modes_kept = f > 0 && plan.feet[0][static_cast<std::size_t>(f)].mode == plan.feet[0][static_cast<std::size_t>(f - 1)].mode &&
                               plan.feet[1][static_cast<std::size_t>(f)].mode == plan.feet[1][static_cast<std::size_t>(f - 1)].mode;
@@ -518,7 +525,10 @@ void RefinePass::run(Clip& clip, PassContext& ctx) {
         VecX q_fresh = q_target_all.col(f);
         const IkResult r_fresh = ik.solve(data, targets, q_target_all.col(f), q_fresh, {}, floor);
         iterations += r_fresh.solver.iterations;
-        if (r_fresh.solver.cost < 0.5 * r.solver.cost) q_f = q_fresh;
+        double jump = 0;  // the fastest joint from the previous frame, in multiples of its limit
+        for (int i = 0; i < nu; ++i)
+          if (hard_limit[i] > 0) jump = std::max(jump, std::abs(q_fresh[7 + i] - q_out(7 + i, f - 1)) * fps / hard_limit[i]);
+        if (r_fresh.solver.cost < 0.5 * r.solver.cost && jump <= kFreshJumpRatio) q_f = q_fresh;
       }
       q_out.col(f) = q_f;
     }

@@ -27,6 +27,9 @@
 ///    times cheaper than the root and the rest) that puts its soles on their targets and every
 ///    collision point of the robot (collision_hull.hpp) above the floor — the landmark IK with
 ///    those targets and a floor term, joint limits as bounds. This meets every row but is jittery.
+///    Each frame starts from the previous one's correction; at a touchdown or lift-off it is also
+///    solved afresh, which is kept where it meets the rows much better unless it moves a joint more
+///    than 6 times its speed limit from the previous frame (another branch of the leg's solutions).
 /// 6. Correct smoothly (refine/smooth_correction.hpp): from the projection, Gauss–Newton over the
 ///    whole clip for the smallest smooth change of the smoothed motion that meets the same rows,
 ///    the joint position limits and the speed limits; the change is weighed by the landmark cost's
