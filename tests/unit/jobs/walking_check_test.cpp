@@ -103,5 +103,51 @@ TEST_P(WalkingCheck, OutcomeIsPinned) {
 INSTANTIATE_TEST_SUITE_P(HumanoidsOnRealWalks, WalkingCheck, ::testing::ValuesIn(cases()),
                          [](const ::testing::TestParamInfo<Case>& info) { return test::case_name(info.param.robot, info.param.clip); });
 
+// Third-party G1 references that real G1s perform with tracking policies (issue 15's acceptance:
+// they should pass at 1x, also with the link masses scaled by 0.9 and 1.1 and the floor friction at
+// 0.7). Pinned like the walks: B_HandsUp passes under all four; the others still fall (issue 15 is
+// open; README "What the check finds on real clips"). Unitree's fight1_subject2 (falls at 4.65 s)
+// is left out here: its check costs 45 s on the CI machine, and the CLI test validates it already.
+struct ThirdPartyCase {
+  const char* csv;  // relative to the shared data folder
+  double fps;
+  bool passes;
+};
+
+class ThirdPartyG1Check : public ::testing::TestWithParam<ThirdPartyCase> {};
+
+TEST_P(ThirdPartyG1Check, OutcomeIsPinned) {
+  const ThirdPartyCase c = GetParam();
+  RT_REQUIRE_SHARED(csv, c.csv);
+  RT_REQUIRE_SHARED(robots, "robots");
+  const RobotModel& model = test::shared_robot("g1");
+  ValidateRequest request;
+  request.reference_path = csv;
+  request.fps = c.fps;
+  request.check = default_check_options(model);
+  if (!c.passes) {
+    const ValidateResult r = run_validate(request, model);
+    EXPECT_FALSE(r.check.passed) << "this reference now passes the check: update the pinned outcome (test and README)";
+    EXPECT_TRUE(r.check.fell);
+    std::cout << format("[ outcome  ] g1 %-46s fails, fell at %.2f s\n", c.csv, r.check.fall_time_s);
+    return;
+  }
+  for (const auto& [mass, friction] : {std::pair{1.0, 0.0}, std::pair{0.9, 0.0}, std::pair{1.1, 0.0}, std::pair{1.0, 0.7}}) {
+    request.check.mass_scale = mass;
+    request.check.floor_friction = friction;
+    const ValidateResult r = run_validate(request, model);
+    EXPECT_TRUE(r.check.passed) << "masses x" << mass << ", friction " << friction << ": no longer passes";
+    EXPECT_FALSE(r.check.fell);
+    std::cout << format("[ outcome  ] g1 %-46s masses x%.1f, friction %s: %s\n", c.csv, mass,
+                        friction > 0 ? format("%.1f", friction).c_str() : "robot.yaml", r.check.passed ? "passes" : "fails");
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(SharedData, ThirdPartyG1Check,
+                         ::testing::Values(ThirdPartyCase{"retargeted/g1_moves/B_HandsUp.csv", 60, true},
+                                           ThirdPartyCase{"retargeted/g1_moves/J_Dance0_StepTouch.csv", 60, false},
+                                           ThirdPartyCase{"retargeted/g1_lafan1_unitree/dance1_subject2.csv", 30, false}),
+                         [](const ::testing::TestParamInfo<ThirdPartyCase>& info) { return test::case_name("g1", info.param.csv); });
+
 }  // namespace
 }  // namespace rt
