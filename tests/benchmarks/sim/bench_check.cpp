@@ -1,7 +1,9 @@
 // Benchmark of the dynamics check (design.md §7, issues 5, 6 and 15): real-time factor of the
 // closed loop (1 ms simulation, 2 ms control) per robot, single thread: the walking controller on
 // the synthetic walk (also at 1 ms control), the paper controller standing, and the cost of the
-// paper's online COM re-planner while it is active (foot-lift reference: from t = 0.5 s).
+// paper's online COM re-planner while it is active (foot-lift reference: from t = 0.5 s), and the
+// walking controller's whole-clip balance plan (its mapping's first stage, before the simulation)
+// on a long clip: a 122 s synthetic walk (sim/balance_plan.hpp; the sparse QP of balance/sparse_qp.hpp).
 // Usage: bench_check [runs] [robot ...]   (defaults: 5 runs; humanoid25 g1)
 
 #include <algorithm>
@@ -14,7 +16,10 @@
 #include "retarget/model/robot_model.hpp"
 #include "retarget/reference/robot_mapping.hpp"
 #include "retarget/reference/synthetic_references.hpp"
+#include "retarget/model/robot_data.hpp"
+#include "retarget/sim/balance_plan.hpp"
 #include "retarget/sim/dynamics_check.hpp"
+#include "retarget/sim/reference_signal.hpp"
 
 int main(int argc, char** argv) {
   using namespace rt;
@@ -43,6 +48,24 @@ int main(int argc, char** argv) {
                     "%.1fx (fastest run %.1fx; %d runs; %s)\n",
                     name.c_str(), walk.duration_s(), period * 1e3, bench::median(times), walk_sim_s / bench::median(times),
                     walk_sim_s / fastest, runs, passed ? "passed" : "FAILED");
+      }
+      {
+        WalkOptions long_walk;
+        long_walk.steps = 100;  // 1 s standing, 100 steps of 1.2 s, 1 s standing
+        long_walk.step_s = 1.2;
+        long_walk.double_support_s = 0.2;
+        const Reference ref = walk_reference(*model, long_walk);
+        RobotData data(*model);
+        const ReferenceSignal signal(*model, data, ref);
+        const DynamicsCheckOptions d = default_check_options(*model);
+        BalancePlanOptions po = d.walking.plan;  // as the walking controller sets it up
+        po.lead_in_s = d.settle_s;
+        po.ankle_reach = d.walking.ankle_reach;
+        int samples = 0;
+        auto times = bench::time_runs(runs, [&] { samples = plan_reference_balance(*model, data, signal, po).size(); });
+        std::printf("%-12s balance plan of a %.0f s walk (%d samples of 10 ms): median %.3f s wall (fastest %.3f s; %d runs)\n",
+                    name.c_str(), ref.duration_s(), samples, bench::median(times), *std::min_element(times.begin(), times.end()),
+                    runs);
       }
       DynamicsCheckOptions o = default_check_options(*model);
       o.controller = CheckControllerKind::Paper;  // the paper controller's figures below
