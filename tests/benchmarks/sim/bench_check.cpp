@@ -13,10 +13,10 @@
 #include <vector>
 
 #include "../bench_util.hpp"
+#include "retarget/model/robot_data.hpp"
 #include "retarget/model/robot_model.hpp"
 #include "retarget/reference/robot_mapping.hpp"
 #include "retarget/reference/synthetic_references.hpp"
-#include "retarget/model/robot_data.hpp"
 #include "retarget/sim/balance_plan.hpp"
 #include "retarget/sim/dynamics_check.hpp"
 #include "retarget/sim/reference_signal.hpp"
