@@ -133,7 +133,7 @@ Reference walk_reference(const RobotModel& model, const WalkOptions& o) {
     const SupportPolygon polygon = SupportPolygon::convex_hull(std::move(corners));
     ZmpPlanSample& s = samples[static_cast<std::size_t>(k)];
     s.com_ref_W = polygon.centroid();
-    s.zmp_gain_s2 = com0.z() / 9.81;
+    s.zmp_gain_s2 = (com0.z() - o.com_drop_m) / 9.81;
     s.support = polygon.half_planes(o.zmp_margin_m);
   }
   ZmpPlanOptions po;
@@ -175,7 +175,7 @@ Reference walk_reference(const RobotModel& model, const WalkOptions& o) {
       const double s = std::clamp(t / dt, 0.0, static_cast<double>(K - 1));
       const int i = std::min(static_cast<int>(s), std::max(K - 2, 0)), j = std::min(i + 1, K - 1);
       IkComTarget com;
-      com.p_W << (1 - (s - i)) * plan.com_W.col(i) + (s - i) * plan.com_W.col(j), com0.z();
+      com.p_W << (1 - (s - i)) * plan.com_W.col(i) + (s - i) * plan.com_W.col(j), com0.z() - o.com_drop_m;
       com.weight = 1e4;
       com.horizontal_only = false;
       const VecX q_prev = q;

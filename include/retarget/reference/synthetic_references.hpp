@@ -38,6 +38,9 @@ struct WalkOptions {
   double swing_height_m = 0.04;  ///< [m] sole lift at mid-swing
   double stand_s = 1.0;          ///< [s] standing before the first and after the last step
   double zmp_margin_m = 0.02;    ///< [m]
+  /// [m] the COM is held this much below its standing height: long steps need the knees bent
+  /// further than the standing pose's to reach both footsteps.
+  double com_drop_m = 0.0;
   double fps = 100.0;
   int first_foot = 1;            ///< 0 left, 1 right steps first
 };

@@ -1,6 +1,6 @@
 // Writes the synthetic references of synthetic_references.hpp as CSV + meta.json, so that they can
 // be checked with `retarget validate` like any reference (issue 15's synthetic walk is generated so).
-// Usage: make_synthetic_reference ROBOT walk|foot-lift OUT_STEM [steps step_s double_support_s step_length_m]
+// Usage: make_synthetic_reference ROBOT walk|foot-lift OUT_STEM [steps step_s double_support_s step_length_m com_drop_m]
 //   e.g. make_synthetic_reference g1 walk /tmp/walk  ->  /tmp/walk.csv, /tmp/walk.meta.json
 
 #include <cstdio>
@@ -15,7 +15,7 @@
 int main(int argc, char** argv) {
   using namespace rt;
   if (argc < 4) {
-    std::fprintf(stderr, "usage: %s ROBOT walk|foot-lift OUT_STEM [steps step_s double_support_s step_length_m]\n", argv[0]);
+    std::fprintf(stderr, "usage: %s ROBOT walk|foot-lift OUT_STEM [steps step_s double_support_s step_length_m com_drop_m]\n", argv[0]);
     return 2;
   }
   try {
@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
       if (argc > 5) w.step_s = std::atof(argv[5]);
       if (argc > 6) w.double_support_s = std::atof(argv[6]);
       if (argc > 7) w.step_length_m = std::atof(argv[7]);
+      if (argc > 8) w.com_drop_m = std::atof(argv[8]);
       ref = walk_reference(*model, w);
     } else if (kind == "foot-lift") {
       ref = foot_lift_reference(*model);

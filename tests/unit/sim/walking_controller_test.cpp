@@ -1,7 +1,7 @@
 // Issue 15: the walking controller of the dynamics check. A synthetic walk (0.5 s steps, 0.1 s
 // double support; walk_reference, also written by tests/benchmarks/sim/make_synthetic_reference)
 // passes on humanoid25 and G1, and so does one at human cadence (0.35 s steps), also with the simulated masses scaled by 0.9 and 1.1 and a floor
-// friction of 0.7; the negative controls still fail with the right violation: the root lifted
+// friction of 0.7, and one of 0.45 m steps with the knees bent; the negative controls still fail with the right violation: the root lifted
 // 0.3 m from one frame to the next, the walk played 3x faster, and a pose whose COM is held far outside the only
 // stance foot. G1 skips cleanly without ../shared/data.
 
@@ -84,6 +84,47 @@ TEST_P(WalkingController, SyntheticWalkAtHumanCadencePasses) {
   const DynamicsCheckResult r = run_dynamics_check(*model_, walk_reference(*model_, w), default_check_options(*model_));
   EXPECT_TRUE(r.passed) << failing(r);
   EXPECT_LT(r.walking.max_dcm_error_m, 0.08);
+}
+
+// The synthetic walk with its COM held lower (WalkOptions::com_drop_m): the IK bends the knees
+// further and the soles stay on their footsteps, flat on the floor, in every stance.
+TEST_P(WalkingController, SyntheticWalkWithALowerComKeepsItsFootsteps) {
+  WalkOptions w;
+  w.steps = 4;
+  w.com_drop_m = 0.08;
+  const Reference low = walk_reference(*model_, w);
+  const Reference standing = walk_reference(*model_, WalkOptions{});
+  const ReferenceRobotMap map(*model_, low, "test");
+  RobotData data(*model_);
+  const int mid = low.num_frames() / 2;
+  update_kinematics(*model_, data, map.q(standing, mid));
+  const double z_standing = com_position(*model_, data).z();
+  update_kinematics(*model_, data, map.q(low, mid));
+  EXPECT_NEAR(com_position(*model_, data).z(), z_standing - 0.08, 0.005);
+  for (int frame = 0; frame < low.num_frames(); ++frame) {
+    update_kinematics(*model_, data, map.q(low, frame));
+    for (int foot = 0; foot < 2; ++foot) {
+      if (low.contact[static_cast<std::size_t>(foot)][static_cast<std::size_t>(frame)]) {
+        ASSERT_NEAR(lowest_sole_corner_z(*model_, data, foot), 0.0, 1e-3) << "frame " << frame << ", foot " << foot;
+      }
+    }
+  }
+}
+
+// Longer steps than the default walk's 0.15 m: 0.45 m every 0.5 s (0.9 m/s) with the knees bent
+// (COM 8 cm below standing) pass on both robots. At the standing height the generator's IK does not
+// reach 0.5 m footsteps on either robot, and 0.6 m steps fall at every height and duration tried
+// (tests/benchmarks/sim/probe_walk_envelope maps the region; README, "What the check finds on real
+// clips").
+TEST_P(WalkingController, LongStepsWithBentKneesPass) {
+  WalkOptions w;
+  w.steps = 8;
+  w.step_s = 0.5;
+  w.double_support_s = 0.1;
+  w.step_length_m = 0.45;
+  w.com_drop_m = 0.08;
+  const DynamicsCheckResult r = run_dynamics_check(*model_, walk_reference(*model_, w), default_check_options(*model_));
+  EXPECT_TRUE(r.passed) << failing(r);
 }
 
 TEST_P(WalkingController, SyntheticWalkPassesWithOtherMassesAndFriction) {
