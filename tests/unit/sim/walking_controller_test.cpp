@@ -86,8 +86,8 @@ TEST_P(WalkingController, SyntheticWalkAtHumanCadencePasses) {
   EXPECT_LT(r.walking.max_dcm_error_m, 0.08);
 }
 
-// The synthetic walk with its COM held lower (WalkOptions::com_drop_m): the IK bends the knees
-// further and the soles stay on their footsteps, flat on the floor, in every stance.
+// The synthetic walk with its COM held lower (WalkOptions::com_drop_m): the COM is that much lower
+// and the stance soles stay on the floor (the IK bends the knees further to reach them).
 TEST_P(WalkingController, SyntheticWalkWithALowerComKeepsItsFootsteps) {
   WalkOptions w;
   w.steps = 4;
@@ -113,9 +113,9 @@ TEST_P(WalkingController, SyntheticWalkWithALowerComKeepsItsFootsteps) {
 
 // Longer steps than the default walk's 0.15 m: 0.45 m every 0.5 s (0.9 m/s) with the knees bent
 // (COM 8 cm below standing) pass on both robots. At the standing height the generator's IK does not
-// reach 0.5 m footsteps on either robot, and 0.6 m steps fall at every height and duration tried
-// (tests/benchmarks/sim/probe_walk_envelope maps the region; README, "What the check finds on real
-// clips").
+// reach 0.5 m footsteps on either robot, and 0.6 m steps fall or cannot be reached at every height
+// and step time tried (tests/benchmarks/sim/probe_walk_envelope maps the region; README, "What the
+// check finds on real clips").
 TEST_P(WalkingController, LongStepsWithBentKneesPass) {
   WalkOptions w;
   w.steps = 8;
