@@ -108,9 +108,11 @@ QpStatus DenseQp::solve(const MatX& H, const VecX& g, const MatX& C, const VecX&
           }
         }
       }
-      // Primal (full) step: the t that satisfies constraint p with equality.
+      // Primal (full) step: the t that satisfies constraint p with equality. With n constraints in
+      // the working set x is pinned (z = 0 up to rounding): p can only enter after a drop, and
+      // letting rounding admit it would grow the working set past n.
       const double zn = z_.dot(C.row(p).transpose());
-      const double t2 = zn > 1e-12 * std::max(Hn_.dot(C.row(p).transpose()), 1e-300)
+      const double t2 = k < n && zn > 1e-12 * std::max(Hn_.dot(C.row(p).transpose()), 1e-300)
                             ? -(C.row(p).dot(x) - d[p]) / zn
                             : kInf;
       if (t1 == kInf && t2 == kInf) return QpStatus::Infeasible;
