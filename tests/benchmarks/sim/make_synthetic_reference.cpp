@@ -1,6 +1,6 @@
 // Writes the synthetic references of synthetic_references.hpp as CSV + meta.json, so that they can
 // be checked with `retarget validate` like any reference (issue 15's synthetic walk is generated so).
-// Usage: make_synthetic_reference ROBOT walk|foot-lift OUT_STEM [steps step_s double_support_s step_length_m com_drop_m]
+// Usage: make_synthetic_reference ROBOT walk|foot-lift OUT_STEM [steps step_s double_support_s step_length_m com_drop_m hold_standing_pose]
 //   e.g. make_synthetic_reference g1 walk /tmp/walk  ->  /tmp/walk.csv, /tmp/walk.meta.json
 
 #include <cstdio>
@@ -15,7 +15,7 @@
 int main(int argc, char** argv) {
   using namespace rt;
   if (argc < 4) {
-    std::fprintf(stderr, "usage: %s ROBOT walk|foot-lift OUT_STEM [steps step_s double_support_s step_length_m com_drop_m]\n", argv[0]);
+    std::fprintf(stderr, "usage: %s ROBOT walk|foot-lift OUT_STEM [steps step_s double_support_s step_length_m com_drop_m hold_standing_pose(0|1)]\n", argv[0]);
     return 2;
   }
   try {
@@ -29,7 +29,11 @@ int main(int argc, char** argv) {
       if (argc > 6) w.double_support_s = std::atof(argv[6]);
       if (argc > 7) w.step_length_m = std::atof(argv[7]);
       if (argc > 8) w.com_drop_m = std::atof(argv[8]);
-      ref = walk_reference(*model, w);
+      if (argc > 9) w.hold_standing_pose = std::atoi(argv[9]) != 0;
+      WalkReport met;
+      ref = walk_reference(*model, w, &met);
+      std::fprintf(stderr, "walk met its targets to: feet %.4f m, COM %.4f m; waist and arms within %.3f rad of standing\n",
+                   met.max_foot_miss_m, met.max_com_miss_m, met.max_upper_body_rad);
     } else if (kind == "foot-lift") {
       ref = foot_lift_reference(*model);
     } else {

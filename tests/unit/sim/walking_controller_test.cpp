@@ -111,6 +111,44 @@ TEST_P(WalkingController, SyntheticWalkWithALowerComKeepsItsFootsteps) {
   }
 }
 
+// Short slow steps (0.1 m every 0.8 s) with the synthetic walk holding its standing pose: the feet
+// and the COM meet their targets and the waist and arms stay at standing. Pulled towards the
+// previous frame instead (the default), the same walk's waist and arms drift by 2.7 rad on G1 and
+// 3 rad on humanoid25, its feet miss by 1-3 cm, and G1 fell in it at 8.3 s.
+TEST_P(WalkingController, SyntheticWalkHoldingTheStandingPoseMeetsItsTargetsAndPasses) {
+  WalkOptions w;
+  w.steps = 8;
+  w.step_s = 0.8;
+  w.double_support_s = 0.16;
+  w.step_length_m = 0.1;
+  w.hold_standing_pose = true;
+  WalkReport met;
+  const Reference ref = walk_reference(*model_, w, &met);
+  EXPECT_LT(met.max_foot_miss_m, 1e-3);
+  EXPECT_LT(met.max_com_miss_m, 2e-3);
+  EXPECT_LT(met.max_upper_body_rad, 0.1);
+  const DynamicsCheckResult r = run_dynamics_check(*model_, ref, default_check_options(*model_));
+  EXPECT_TRUE(r.passed) << failing(r);
+}
+
+// 0.3 m steps every 0.5 s (0.6 m/s) with the COM 4 cm below standing, the waist and arms held at
+// standing: a clean walk, and it passes. On the probe's grid (probe_walk_envelope) every walk that
+// the generator makes without moving the waist or arms more than 0.25 rad passes on both robots.
+TEST_P(WalkingController, CleanWalkWithLongerStepsPasses) {
+  WalkOptions w;
+  w.steps = 8;
+  w.step_length_m = 0.3;
+  w.com_drop_m = 0.04;
+  w.hold_standing_pose = true;
+  WalkReport met;
+  const Reference ref = walk_reference(*model_, w, &met);
+  EXPECT_LT(met.max_foot_miss_m, 2e-3);
+  EXPECT_LT(met.max_com_miss_m, 5e-3);
+  EXPECT_LT(met.max_upper_body_rad, 0.25);
+  const DynamicsCheckResult r = run_dynamics_check(*model_, ref, default_check_options(*model_));
+  EXPECT_TRUE(r.passed) << failing(r);
+}
+
 // Longer steps than the default walk's 0.15 m: 0.45 m every 0.5 s (0.9 m/s) with the knees bent
 // (COM 8 cm below standing) pass on both robots. At the standing height the generator's IK does not
 // reach 0.5 m footsteps on either robot, and 0.6 m steps fall or cannot be reached at every height
