@@ -77,8 +77,8 @@ TEST(DenseQp, DependentConstraintsThroughOneVertex) {
 }
 
 // Recorded from the tracking controller (tests/data/qp, an experimental build with joint-acceleration
-// rows): the working set held n constraints and
-// rounding let one more in, which wrote past the end of the working-set matrices.
+// rows): the working set held n constraints and rounding let one more in, which wrote past the end
+// of the working-set matrices.
 TEST(DenseQp, RecordedProblemWithAFullWorkingSet) {
   std::ifstream in(test::source_path("tests/data/qp/full_working_set.txt"));
   ASSERT_TRUE(in) << "missing tests/data/qp/full_working_set.txt";
