@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <random>
@@ -72,7 +73,9 @@ TEST(DenseQp, DependentConstraintsThroughOneVertex) {
     const QpStatus status = qp.solve(H, g, C, d, x);
     ASSERT_NE(status, QpStatus::NotConvex) << "trial " << trial;
     ASSERT_LE(static_cast<int>(qp.active_set().size()), n) << "trial " << trial;
-    if (status == QpStatus::Solved) EXPECT_GE((C * x - d).minCoeff(), -1e-7 * std::max(1.0, x.cwiseAbs().maxCoeff())) << "trial " << trial;
+    if (status == QpStatus::Solved) {
+      EXPECT_GE((C * x - d).minCoeff(), -1e-7 * std::max(1.0, x.cwiseAbs().maxCoeff())) << "trial " << trial;
+    }
   }
 }
 
@@ -102,7 +105,9 @@ TEST(DenseQp, RecordedProblemWithAFullWorkingSet) {
   const QpStatus status = qp.solve(H, g, C, d, x);
   EXPECT_NE(status, QpStatus::NotConvex);
   EXPECT_LE(static_cast<Eigen::Index>(qp.active_set().size()), n);
-  if (status == QpStatus::Solved) EXPECT_GE((C * x - d).minCoeff(), -1e-6 * std::max(1.0, x.cwiseAbs().maxCoeff()));
+  if (status == QpStatus::Solved) {
+    EXPECT_GE((C * x - d).minCoeff(), -1e-6 * std::max(1.0, x.cwiseAbs().maxCoeff()));
+  }
 }
 
 TEST(DenseQp, ReportsInfeasibleConstraints) {

@@ -53,6 +53,17 @@ class WalkingController : public ::testing::TestWithParam<const char*> {
     if (walk_.num_frames() == 0) walk_ = walk_reference(*model_);
     return walk_;
   }
+  // The generator meets the walk's targets to within `bounds` (feet, COM, upper body), and the
+  // walk passes the check.
+  void expect_walk_met_and_passes(const WalkOptions& w, const WalkReport& bounds) {
+    WalkReport met;
+    const Reference ref = walk_reference(*model_, w, &met);
+    EXPECT_LT(met.max_foot_miss_m, bounds.max_foot_miss_m);
+    EXPECT_LT(met.max_com_miss_m, bounds.max_com_miss_m);
+    EXPECT_LT(met.max_upper_body_rad, bounds.max_upper_body_rad);
+    const DynamicsCheckResult r = run_dynamics_check(*model_, ref, default_check_options(*model_));
+    EXPECT_TRUE(r.passed) << failing(r);
+  }
   std::unique_ptr<RobotModel> model_;
   Reference walk_;
 };
@@ -122,13 +133,7 @@ TEST_P(WalkingController, SyntheticWalkHoldingTheStandingPoseMeetsItsTargetsAndP
   w.double_support_s = 0.16;
   w.step_length_m = 0.1;
   w.hold_standing_pose = true;
-  WalkReport met;
-  const Reference ref = walk_reference(*model_, w, &met);
-  EXPECT_LT(met.max_foot_miss_m, 1e-3);
-  EXPECT_LT(met.max_com_miss_m, 2e-3);
-  EXPECT_LT(met.max_upper_body_rad, 0.1);
-  const DynamicsCheckResult r = run_dynamics_check(*model_, ref, default_check_options(*model_));
-  EXPECT_TRUE(r.passed) << failing(r);
+  expect_walk_met_and_passes(w, {1e-3, 2e-3, 0.1});
 }
 
 // 0.3 m steps every 0.5 s (0.6 m/s) with the COM 4 cm below standing, the waist and arms held at
@@ -140,13 +145,7 @@ TEST_P(WalkingController, CleanWalkWithLongerStepsPasses) {
   w.step_length_m = 0.3;
   w.com_drop_m = 0.04;
   w.hold_standing_pose = true;
-  WalkReport met;
-  const Reference ref = walk_reference(*model_, w, &met);
-  EXPECT_LT(met.max_foot_miss_m, 2e-3);
-  EXPECT_LT(met.max_com_miss_m, 5e-3);
-  EXPECT_LT(met.max_upper_body_rad, 0.25);
-  const DynamicsCheckResult r = run_dynamics_check(*model_, ref, default_check_options(*model_));
-  EXPECT_TRUE(r.passed) << failing(r);
+  expect_walk_met_and_passes(w, {2e-3, 5e-3, 0.25});
 }
 
 // Longer steps than the default walk's 0.15 m: 0.45 m every 0.5 s (0.9 m/s) with the knees bent
