@@ -1,8 +1,9 @@
 // Probe of what the check's walking controller can walk (issue 15): the synthetic walk of
 // synthetic_references.hpp (holding the standing pose, WalkOptions::hold_standing_pose) over a grid
-// of step lengths, step durations and COM heights, each checked with the default options. A real clip's one verdict moves with modest changes of the
-// reference or the controller (the real walks sit at the edge of what the controller can do), so a
-// controller change is better judged on a graded measure: how far the passing region reaches.
+// of step lengths, step durations and COM heights, each checked with the default options. A real
+// clip's one verdict moves with modest changes of the reference or the controller (the real walks
+// sit at the edge of what the controller can do), so a controller change is better judged on a
+// graded measure: how far the passing region reaches.
 //
 // Usage: probe_walk_envelope ROBOT [--steps N] [--reference FILE ...]
 //   --steps N             steps per walk (default 8)
