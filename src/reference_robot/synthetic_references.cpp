@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "retarget/balance/support_polygon.hpp"
 #include "retarget/balance/zmp_plan.hpp"
@@ -186,6 +187,10 @@ Reference walk_reference(const RobotModel& model, const WalkOptions& o, WalkRepo
   // Each realisation says how closely it met its targets: where the legs cannot reach, the IK
   // trades the targets off against each other (and against the standing pose of the upper body).
   MatX q_all(model.nq(), T);
+  VecX max_step = VecX::Constant(model.nu(), std::numeric_limits<double>::infinity());
+  for (int a = 0; a < model.nu(); ++a)
+    if (model.velocity_limits()[a] > 0) max_step[a] = 0.99 * model.velocity_limits()[a] / o.fps;
+  IkJointBounds speed_bounds;
   auto realise = [&](const ZmpPlan& plan) {
     WalkReport met;
     VecX q = q0;
@@ -204,7 +209,13 @@ Reference walk_reference(const RobotModel& model, const WalkOptions& o, WalkRepo
       com.horizontal_only = false;
       VecX anchor = q;  // the previous frame; or the standing joints, the root where the previous frame left it
       if (o.hold_standing_pose) anchor.tail(model.nu()) = q0.tail(model.nu());
-      const IkResult r = ik.solve(data, targets, anchor, q, com);
+      // Every joint within its URDF velocity limit from the previous frame (with 1 % to spare for
+      // the file's rounding): a reference that asks a motor for more fails the check.
+      if (frame > 0) {
+        speed_bounds.lower = q.tail(model.nu()) - max_step;
+        speed_bounds.upper = q.tail(model.nu()) + max_step;
+      }
+      const IkResult r = ik.solve(data, targets, anchor, q, com, IkFloorTerm{}, frame > 0 ? &speed_bounds : nullptr);
       met.max_foot_miss_m = std::max(met.max_foot_miss_m, r.max_error_m);
       met.max_com_miss_m = std::max(met.max_com_miss_m, (com_position(model, data) - com.p_W).norm());
       for (int a = 0; a < model.nu(); ++a)

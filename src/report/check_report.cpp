@@ -34,7 +34,8 @@ const ViolationKind kAllKinds[] = {ViolationKind::Fall,          ViolationKind::
                                    ViolationKind::ContactNotAchieved, ViolationKind::LiftOffNotAchieved,
                                    ViolationKind::FootSlip,      ViolationKind::TorqueSaturation,
                                    ViolationKind::JointLimit,    ViolationKind::HeavyCorrection,
-                                   ViolationKind::StanceOffFloor};
+                                   ViolationKind::StanceOffFloor, ViolationKind::StanceFootMoved,
+                                   ViolationKind::JointVelocity};
 
 // ---- writing -----------------------------------------------------------------------------------
 
@@ -274,9 +275,9 @@ ReportInfo make_report_info(const std::string& robot, const std::string& referen
                    o.walking.dcm_gain, o.walking.plan.margin_m * 1e3, o.walking.plan.max_shift_m * 1e3,
                    o.walking.foothold_box_m * 1e3, o.walking.foot_kp, o.walking.foot_kd);
   info.options_summary =
-      format("%s; control %g ms, kp %g, kd %g; COP margin %g mm, contact tolerance %g s, slip %g m/s, settle %g s%s",
+      format("%s; control %g ms, kp %g, kd %g; COP margin %g mm, contact tolerance %g s (at most %g of a phase), slip %g m/s, settle %g s%s",
              controller.c_str(), o.control_period_s * 1e3, o.tracking.kp, o.tracking.kd, o.cop_margin_m * 1e3,
-             o.contact_tolerance_s, o.slip_speed_mps, o.settle_s,
+             o.contact_tolerance_s, o.contact_tolerance_fraction, o.slip_speed_mps, o.settle_s,
              o.mass_scale != 1 || o.floor_friction > 0
                  ? format("; simulated masses x%g, floor friction %s", o.mass_scale,
                           o.floor_friction > 0 ? format("%g", o.floor_friction).c_str() : "as robot.yaml")

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "retarget/core/strings.hpp"
+#include "retarget/model/robot_model.hpp"
 #include "retarget/sim/reference_signal.hpp"
 
 namespace rt {
@@ -37,6 +38,36 @@ std::vector<Violation> stance_off_floor(const ReferenceSignal& signal, double le
     }
     tracker.finish(static_cast<double>(T) / signal.fps() - lead_s, out);
   }
+  return out;
+}
+
+std::vector<Violation> reference_joint_speed(const RobotModel& model, const ReferenceSignal& signal, double lead_s) {
+  std::vector<Violation> out;
+  ViolationTracker tracker(ViolationKind::JointVelocity, "ratio", 0.0);
+  const VecX& vmax = model.velocity_limits();
+  const int nu = model.nu(), T = signal.num_frames();
+  // The standing lead-in is the check's own motion, not the reference's: judged from the clip's
+  // second frame on (the first one's central difference reaches into the lead-in).
+  const int first = lead_s > 0 ? static_cast<int>(std::lround(lead_s * signal.fps())) + 1 : 0;
+  for (int k = first; k < T; ++k) {
+    const double t = k / signal.fps();
+    const VecX v = signal.at(t, TrunkTransform{}).v.tail(nu);
+    double worst = 0;
+    int joint = -1;
+    for (int i = 0; i < nu; ++i)
+      if (vmax[i] > 0 && std::abs(v[i]) / vmax[i] > worst) {
+        worst = std::abs(v[i]) / vmax[i];
+        joint = i;
+      }
+    const bool fast = worst > 1;
+    tracker.update(t - lead_s, fast, worst,
+                   fast ? format("the reference moves %s at %.2fx its velocity limit (%.3g /s)",
+                                 model.joints()[static_cast<std::size_t>(model.movable_joints()[static_cast<std::size_t>(joint)])].name.c_str(),
+                                 worst, vmax[joint])
+                        : "",
+                   out);
+  }
+  tracker.finish(T / signal.fps() - lead_s, out);
   return out;
 }
 

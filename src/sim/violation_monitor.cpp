@@ -71,15 +71,19 @@ ForceCheck check_wrenches(const RobotModel& model, const TrackingCommand& cmd, c
 
 }  // namespace
 
-ViolationMonitor::ViolationMonitor(const RobotModel& model, const DynamicsCheckOptions& o)
+ViolationMonitor::ViolationMonitor(const RobotModel& model, const DynamicsCheckOptions& o,
+                                   const std::array<std::vector<std::uint8_t>, 2>& contacts, double fps)
     : model_(&model),
       o_(&o),
+      fps_(fps),
       not_achieved_{ViolationTracker(ViolationKind::ContactNotAchieved, "N", o.contact_tolerance_s),
                     ViolationTracker(ViolationKind::ContactNotAchieved, "N", o.contact_tolerance_s)},
       no_lift_off_{ViolationTracker(ViolationKind::LiftOffNotAchieved, "N", o.contact_tolerance_s),
                    ViolationTracker(ViolationKind::LiftOffNotAchieved, "N", o.contact_tolerance_s)},
       slip_{ViolationTracker(ViolationKind::FootSlip, "m/s", o.min_violation_s),
             ViolationTracker(ViolationKind::FootSlip, "m/s", o.min_violation_s)},
+      moved_{ViolationTracker(ViolationKind::StanceFootMoved, "m", o.min_violation_s),
+             ViolationTracker(ViolationKind::StanceFootMoved, "m", o.min_violation_s)},
       cop_edge_(ViolationKind::CopNearEdge, "m", o.min_violation_s),
       saturation_(ViolationKind::TorqueSaturation, "ratio", o.min_violation_s),
       limit_(ViolationKind::JointLimit, "rad", o.min_violation_s) {
@@ -88,6 +92,21 @@ ViolationMonitor::ViolationMonitor(const RobotModel& model, const DynamicsCheckO
   touch_threshold_n_ = o.touch_force_fraction * weight_n;
   friction_ = o.floor_friction > 0 ? o.floor_friction : model.config().simulation.friction;
   com_fall_z_ = o.fall_com_fraction * model.standing_com_height_m();
+  // A phase is a run of equal labels; the clip's first and last runs are cut by its ends, so they
+  // keep the full tolerance (a short run there is not a short step).
+  for (std::size_t f = 0; f < 2; ++f) {
+    const std::vector<std::uint8_t>& c = contacts[f];
+    std::vector<double>& tol = contact_tolerance_s_[f];
+    tol.assign(c.size(), o.contact_tolerance_s);
+    for (std::size_t a = 0; a < c.size();) {
+      std::size_t b = a;
+      while (b < c.size() && c[b] == c[a]) ++b;
+      if (a > 0 && b < c.size())
+        std::fill(tol.begin() + static_cast<std::ptrdiff_t>(a), tol.begin() + static_cast<std::ptrdiff_t>(b),
+                  std::min(o.contact_tolerance_s, o.contact_tolerance_fraction * static_cast<double>(b - a) / fps));
+      a = b;
+    }
+  }
   const int nu = model.nu();
   group_.resize(static_cast<std::size_t>(nu));
   for (int i = 0; i < nu; ++i)
@@ -192,6 +211,12 @@ void ViolationMonitor::observe(const ControlInput& in, const ControlOutput& ctl)
     const auto fi = static_cast<std::size_t>(f);
     const Sole& sole = model.soles()[fi];
     const double fn = contacts.feet[fi].normal_force_n;
+    if (!contact_tolerance_s_[fi].empty()) {
+      const auto k = static_cast<std::size_t>(
+          std::clamp<long>(std::lround(in.t_ref_s * fps_), 0L, static_cast<long>(contact_tolerance_s_[fi].size()) - 1));
+      not_achieved_[fi].set_min_duration(contact_tolerance_s_[fi][k]);
+      no_lift_off_[fi].set_min_duration(contact_tolerance_s_[fi][k]);
+    }
     // Detail strings are only built while a condition holds (this runs every control cycle).
     const bool unmet = r.contact[fi] && !feet.on_floor[fi];
     not_achieved_[fi].update(t_clip, unmet, fn,
@@ -214,6 +239,24 @@ void ViolationMonitor::observe(const ControlInput& in, const ControlOutput& ctl)
                                       speed, v_centre.head<2>().norm(), std::abs(omega.z()))
                              : "",
                      out);
+    // How far the stance foot has moved over the floor from where it was planted (its first loaded
+    // instant in this reference stance): the horizontal displacement of its sole centre, i.e. of
+    // the footstep. A turn about the centre is reported with it (and as foot-slip while it spins).
+    if (!r.contact[fi]) planted_[fi].reset();
+    double moved = 0;
+    if (r.contact[fi] && feet.loaded[fi]) {
+      if (!planted_[fi]) planted_[fi] = X;
+      moved = ((X * sole.p_L_center) - (*planted_[fi] * sole.p_L_center)).head<2>().norm();
+    }
+    const bool moved_off = moved > o.max_stance_foot_travel_m;
+    std::string moved_detail;
+    if (moved_off) {
+      const Vec3 heading = X.linear().col(0), heading0 = planted_[fi]->linear().col(0);
+      const double turn = std::atan2(heading0.x() * heading.y() - heading0.y() * heading.x(), heading0.head<2>().dot(heading.head<2>()));
+      moved_detail = format("%s sole centre %.0f mm from where it was planted, turned %.0f deg", foot_name[f], moved * 1e3,
+                            std::abs(turn) * 180 / M_PI);
+    }
+    moved_[fi].update(t_clip, moved_off, moved, moved_detail, out);
     if (feet.loaded[fi])
       for (const Vec3& c : corners_L) support_pts.push_back((X * c).head<2>());
   }
@@ -299,7 +342,8 @@ void ViolationMonitor::observe(const ControlInput& in, const ControlOutput& ctl)
 
 void ViolationMonitor::finish(double t_end, DynamicsCheckResult& res) {
   std::vector<Violation>& out = result_.violations;
-  for (auto* t : {&not_achieved_[0], &not_achieved_[1], &no_lift_off_[0], &no_lift_off_[1], &slip_[0], &slip_[1]})
+  for (auto* t : {&not_achieved_[0], &not_achieved_[1], &no_lift_off_[0], &no_lift_off_[1], &slip_[0], &slip_[1],
+                  &moved_[0], &moved_[1]})
     t->finish(t_end, out);
   for (auto* t : {&cop_edge_, &saturation_, &limit_}) t->finish(t_end, out);
   std::sort(out.begin(), out.end(), [](const Violation& a, const Violation& b) { return a.start_s < b.start_s; });

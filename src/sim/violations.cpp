@@ -17,6 +17,8 @@ const char* violation_name(ViolationKind kind) {
     case ViolationKind::JointLimit: return "joint-limit";
     case ViolationKind::HeavyCorrection: return "heavy-correction";
     case ViolationKind::StanceOffFloor: return "stance-off-floor";
+    case ViolationKind::StanceFootMoved: return "stance-foot-moved";
+    case ViolationKind::JointVelocity: return "joint-velocity";
   }
   return "?";
 }
@@ -25,7 +27,8 @@ bool violation_kind_from_name(const std::string& name, ViolationKind& kind) {
   for (ViolationKind k : {ViolationKind::Fall, ViolationKind::CopNearEdge, ViolationKind::ContactNotAchieved,
                           ViolationKind::LiftOffNotAchieved, ViolationKind::FootSlip, ViolationKind::TorqueSaturation,
                           ViolationKind::JointLimit, ViolationKind::HeavyCorrection,
-                          ViolationKind::StanceOffFloor})
+                          ViolationKind::StanceOffFloor, ViolationKind::StanceFootMoved,
+                          ViolationKind::JointVelocity})
     if (name == violation_name(k)) {
       kind = k;
       return true;
@@ -36,7 +39,8 @@ bool violation_kind_from_name(const std::string& name, ViolationKind& kind) {
 bool violation_fails_check(ViolationKind kind) {
   return kind == ViolationKind::Fall || kind == ViolationKind::ContactNotAchieved ||
          kind == ViolationKind::LiftOffNotAchieved || kind == ViolationKind::HeavyCorrection ||
-         kind == ViolationKind::StanceOffFloor;
+         kind == ViolationKind::StanceOffFloor || kind == ViolationKind::StanceFootMoved ||
+         kind == ViolationKind::JointVelocity;
 }
 
 void explain_fall(std::vector<Violation>& violations, double window_s) {
@@ -44,8 +48,8 @@ void explain_fall(std::vector<Violation>& violations, double window_s) {
   if (fall == violations.end()) return;
   const double t1 = fall->start_s, t0 = t1 - window_s;
   std::string why;
-  for (ViolationKind kind : {ViolationKind::CopNearEdge, ViolationKind::FootSlip, ViolationKind::TorqueSaturation,
-                             ViolationKind::JointLimit}) {
+  for (ViolationKind kind : {ViolationKind::CopNearEdge, ViolationKind::FootSlip, ViolationKind::StanceFootMoved,
+                             ViolationKind::TorqueSaturation, ViolationKind::JointLimit}) {
     double overlap = 0;
     const Violation* worst = nullptr;
     for (const Violation& v : violations) {
@@ -68,6 +72,7 @@ void ViolationTracker::update(double t, bool active, double magnitude, const std
   if (active) {
     if (!active_) {
       active_ = true;
+      span_min_duration_s_ = min_duration_s_;
       start_ = t;
       worst_ = magnitude;
       detail_ = detail;
@@ -84,7 +89,7 @@ void ViolationTracker::update(double t, bool active, double magnitude, const std
 void ViolationTracker::finish(double t, std::vector<Violation>& out) {
   if (!active_) return;
   active_ = false;
-  if (std::max(t, last_) - start_ + 1e-12 >= min_duration_s_)
+  if (std::max(t, last_) - start_ + 1e-12 >= span_min_duration_s_)
     out.push_back({kind_, start_, std::max(last_, start_), worst_, unit_, detail_});
 }
 

@@ -81,8 +81,17 @@ struct DynamicsCheckOptions {
   /// Infinite: not checked (the validate job's setting when it labelled the contacts itself).
   double stance_height_tolerance_m = 0.05;
   double contact_tolerance_s = 0.15;     ///< [s] allowed lag between a reference contact change and the robot's
+  /// The allowed lag is also at most this fraction of the reference phase it falls in (the foot's
+  /// stance or swing interval): a 0.13 s swing with a 0.15 s tolerance could never show that the
+  /// foot did not lift.
+  double contact_tolerance_fraction = 0.5;
   double cop_margin_m = 0.01;            ///< [m] COP closer than this to the support edge is reported
   double slip_speed_mps = 0.10;          ///< [m/s] loaded stance sole's fastest corner faster than this slides (a spin too)
+  /// [m] a loaded stance foot whose sole centre has moved further than this over the floor from
+  /// where it was planted in that stance fails the check (`stance-foot-moved`): the robot slid
+  /// through the reference instead of stepping where it steps. A quarter of a G1 sole's length;
+  /// brief slips and spins (`foot-slip`) that leave the foot on its footstep are warnings only.
+  double max_stance_foot_travel_m = 0.05;
   double joint_limit_margin_rad = 0.0087;  ///< [rad] (0.5°) closer than this to a limit counts as reached
   double fall_com_fraction = 0.5;        ///< COM below this fraction of its standing height = fall
   double fall_tilt_rad = 0.785398163397448;  ///< trunk tilt above this = fall (45°)

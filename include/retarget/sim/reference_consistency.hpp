@@ -12,6 +12,7 @@
 namespace rt {
 
 class ReferenceSignal;
+class RobotModel;
 
 /// `stance-off-floor` violations: spans of frames where a foot labelled in contact has its sole
 /// centre more than `tolerance_m` above or below the reference's own floor, the median height of
@@ -19,5 +20,12 @@ class ReferenceSignal;
 /// constant height is not charged for it). Times are clip times: frame time minus `lead_s` (the
 /// standing lead-in prepended to the signal).
 std::vector<Violation> stance_off_floor(const ReferenceSignal& signal, double lead_s, double tolerance_m);
+
+/// `joint-velocity` violations of the reference itself: spans of frames where it moves a joint
+/// faster than the joint's URDF velocity limit (central differences of the frames; joints without a
+/// limit are not judged), from the clip's start on (the standing lead-in of `lead_s` is the check's
+/// own motion). A robot that tracks such a reference only by lagging behind it performs
+/// another motion, and one retimed too fast (a walk played 3x) asks for speeds no motor has.
+std::vector<Violation> reference_joint_speed(const RobotModel& model, const ReferenceSignal& signal, double lead_s);
 
 }  // namespace rt

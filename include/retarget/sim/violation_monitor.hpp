@@ -7,6 +7,8 @@
 /// mapped one.
 
 #include <array>
+#include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -17,7 +19,10 @@ namespace rt {
 
 class ViolationMonitor {
  public:
-  ViolationMonitor(const RobotModel& model, const DynamicsCheckOptions& options);
+  /// `contacts` and `fps`: the reference signal's contact schedule (ReferenceSignal::contacts()),
+  /// whose phase lengths bound the contact-timing tolerance (DynamicsCheckOptions).
+  ViolationMonitor(const RobotModel& model, const DynamicsCheckOptions& options,
+                   const std::array<std::vector<std::uint8_t>, 2>& contacts, double fps);
 
   /// Per-foot load and floor contact from the plant's contacts (data current for the state).
   FootStates foot_states(const ContactState& contacts, const RobotData& data) const;
@@ -36,7 +41,12 @@ class ViolationMonitor {
   const DynamicsCheckOptions* o_;
   double load_threshold_n_ = 0, touch_threshold_n_ = 0, friction_ = 1, com_fall_z_ = 0;
   std::vector<int> group_;  ///< joint group per movable joint: 0 legs, 1 torso, 2 arms
-  std::array<ViolationTracker, 2> not_achieved_, no_lift_off_, slip_;
+  /// Per foot and reference frame: the lag allowed for a contact change in that frame's phase [s].
+  std::array<std::vector<double>, 2> contact_tolerance_s_;
+  double fps_ = 1;
+  std::array<ViolationTracker, 2> not_achieved_, no_lift_off_, slip_, moved_;
+  /// Per foot: where its sole was when it was first loaded in the current reference stance.
+  std::array<std::optional<Iso3>, 2> planted_;
   ViolationTracker cop_edge_, saturation_, limit_;
   double joint_sq_ = 0, com_sq_ = 0, cop_sq_ = 0;
   long joint_n_ = 0, clip_ticks_ = 0, cop_n_ = 0;

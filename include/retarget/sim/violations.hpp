@@ -21,6 +21,13 @@ enum class ViolationKind {
   /// The reference labels a foot in contact while its sole is off the reference's own floor
   /// (reference_consistency.hpp): the motion is inconsistent before any controller runs.
   StanceOffFloor,
+  /// A loaded stance foot moved over the floor from where it was planted by more than the bound
+  /// (DynamicsCheckOptions::max_stance_foot_travel_m): the robot did not keep the reference's
+  /// footstep, it slid or spun away from it.
+  StanceFootMoved,
+  /// The reference moves a joint faster than its URDF velocity limit (reference_consistency.hpp):
+  /// the simulated motors have no speed limit, a real one cannot follow.
+  JointVelocity,
 };
 
 /// "fall", "cop-near-edge", ... (stable names used in report.json and summaries).
@@ -56,11 +63,15 @@ class ViolationTracker {
   void update(double t_s, bool active, double magnitude, const std::string& detail, std::vector<Violation>& out);
   /// Ends an open span at t (end of the run).
   void finish(double t_s, std::vector<Violation>& out);
+  /// The shortest span that counts, for spans that start from now on (a span keeps the value it
+  /// started with, so a phase's tolerance is not judged by the next phase's).
+  void set_min_duration(double min_duration_s) { min_duration_s_ = min_duration_s; }
 
  private:
   ViolationKind kind_;
   std::string unit_;
   double min_duration_s_;
+  double span_min_duration_s_ = 0;  ///< min_duration_s_ when the open span started
   bool active_ = false;
   double start_ = 0, worst_ = 0, last_ = 0;
   std::string detail_;

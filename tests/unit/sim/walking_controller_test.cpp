@@ -1,7 +1,7 @@
 // Issue 15: the walking controller of the dynamics check. A synthetic walk (0.5 s steps, 0.1 s
 // double support; walk_reference, also written by tests/benchmarks/sim/make_synthetic_reference)
 // passes on humanoid25 and G1, and so does one at human cadence (0.35 s steps), also with the simulated masses scaled by 0.9 and 1.1 and a floor
-// friction of 0.7, and one of 0.45 m steps with the knees bent; the negative controls still fail with the right violation: the root lifted
+// friction of 0.7, and one of 0.4 m steps with the knees bent; the negative controls still fail with the right violation: the root lifted
 // 0.3 m from one frame to the next, the walk played 3x faster, and a pose whose COM is held far outside the only
 // stance foot. G1 skips cleanly without ../shared/data.
 
@@ -148,20 +148,21 @@ TEST_P(WalkingController, CleanWalkWithLongerStepsPasses) {
   expect_walk_met_and_passes(w, {2e-3, 5e-3, 0.25});
 }
 
-// Longer steps than the default walk's 0.15 m: 0.45 m every 0.5 s (0.9 m/s) with the knees bent
-// (COM 8 cm below standing) pass on both robots. At the standing height the generator's IK does not
-// reach 0.5 m footsteps on either robot, and 0.6 m steps fall or cannot be reached at every height
-// and step time tried (tests/benchmarks/sim/probe_walk_envelope maps the region; README, "What the
-// check finds on real clips").
+// Longer steps than the default walk's 0.15 m: 0.4 m every 0.5 s (0.8 m/s) with the knees bent
+// (COM 4 cm below standing), made cleanly, pass on both robots. Further is beyond what the
+// generator makes cleanly: 0.45 m with the COM 8 cm low misses humanoid25's footsteps by 9 mm, and
+// G1 reaches it only by moving its waist and arms 0.5 rad (and then falls, like every such walk on
+// the probe's grid). At the standing height the IK does not reach 0.5 m footsteps on either robot
+// (tests/benchmarks/sim/probe_walk_envelope maps the region; README, "Where the walking
+// controller's limit lies").
 TEST_P(WalkingController, LongStepsWithBentKneesPass) {
   WalkOptions w;
   w.steps = 8;
   w.step_s = 0.5;
   w.double_support_s = 0.1;
-  w.step_length_m = 0.45;
-  w.com_drop_m = 0.08;
-  const DynamicsCheckResult r = run_dynamics_check(*model_, walk_reference(*model_, w), default_check_options(*model_));
-  EXPECT_TRUE(r.passed) << failing(r);
+  w.step_length_m = 0.4;
+  w.com_drop_m = 0.04;
+  expect_walk_met_and_passes(w, {2e-3, 5e-3, 0.25});
 }
 
 TEST_P(WalkingController, SyntheticWalkPassesWithOtherMassesAndFriction) {
@@ -204,11 +205,22 @@ TEST_P(WalkingController, RootLiftedInOneFrameFails) {
                            [](const Violation& v) { return v.kind == ViolationKind::StanceOffFloor; }));
 }
 
+// A walk at an ordinary pace (0.3 m every 0.5 s, 0.6 m/s; it passes, CleanWalkWithLongerStepsPasses)
+// played 3x faster: 1.8 m/s in 0.17 s steps. Its balance plan needs more than the bound's COM
+// shift, humanoid25's reference asks its knees for up to 1.7x their velocity limit, and G1 falls
+// in its second step. The default synthetic walk (0.15 m steps, 0.3 m/s) is not a fair negative
+// control: at 3x (0.9 m/s) it asks G1's knees for 1.01x their 20 rad/s, and before the check judged
+// joint speeds and stance feet it passed on both robots, humanoid25 stumbling through it.
 TEST_P(WalkingController, WalkPlayedThreeTimesFasterFails) {
-  const DynamicsCheckResult r = run_dynamics_check(*model_, retime_reference(walk(), 1.0 / 3.0), default_check_options(*model_));
+  WalkOptions w;
+  w.steps = 8;
+  w.step_length_m = 0.3;
+  w.com_drop_m = 0.04;
+  const DynamicsCheckResult r =
+      run_dynamics_check(*model_, retime_reference(walk_reference(*model_, w), 1.0 / 3.0), default_check_options(*model_));
   EXPECT_FALSE(r.passed) << "a walk at 3x speed (0.17 s steps) passed";
   EXPECT_TRUE(fails_with(r, {ViolationKind::Fall, ViolationKind::ContactNotAchieved, ViolationKind::LiftOffNotAchieved,
-                             ViolationKind::HeavyCorrection}))
+                             ViolationKind::HeavyCorrection, ViolationKind::StanceFootMoved, ViolationKind::JointVelocity}))
       << failing(r);
 }
 
