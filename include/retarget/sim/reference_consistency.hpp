@@ -3,7 +3,8 @@
 /// hide. A controller maps the reference onto where the robot's feet actually are (trunk mapping),
 /// so a reference whose labelled stance feet are far off the floor (a root that jumps 0.3 m in one
 /// frame, a clip with its floor at the wrong height) would otherwise be quietly re-based at the next
-/// contact change and could pass.
+/// contact change and could pass; and the simulated motors have no speed limit, so a reference that
+/// asks a joint for more speed than its motor has would be followed by lagging behind it.
 
 #include <vector>
 

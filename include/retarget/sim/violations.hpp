@@ -23,7 +23,7 @@ enum class ViolationKind {
   StanceOffFloor,
   /// A loaded stance foot moved over the floor from where it was planted by more than the bound
   /// (DynamicsCheckOptions::max_stance_foot_travel_m): the robot did not keep the reference's
-  /// footstep, it slid or spun away from it.
+  /// footstep, it slid away from it.
   StanceFootMoved,
   /// The reference moves a joint faster than its URDF velocity limit (reference_consistency.hpp):
   /// the simulated motors have no speed limit, a real one cannot follow.
