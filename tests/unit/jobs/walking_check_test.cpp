@@ -6,12 +6,12 @@
 // pair passes at 1x; humanoid25 walks GAMES-105 at 0.90x and the Bandai walk-turn-left at 0.93x
 // (issue 15's bar for a walk that cannot pass at 1x is a passing speed of at least 0.67x). The
 // Bandai walk passed at 1x until the check judged the stance feet: the robot slid a stance foot
-// 11 cm off its footstep (and its COM up to 18 cm off the reference's) on the way through it. The check's balance plan needs
-// COM shifts of 3-13 cm to make the default pipeline's walks feasible (their multibody ZMP leaves
-// the stance sole in single support: issue 14), and even the nearly feasible ones fall within a few
-// steps (issue 15 is open). So what is pinned: every pair fails at 1x with its first failing
-// violation in the first 6 s of the clip, and --find-speed finds a passing speed of at least 0.67x
-// for the two pinned so and none for the others.
+// 11 cm off its footstep (and its COM up to 18 cm off the reference's) on the way through it. The
+// check's balance plan needs COM shifts of 3-13 cm to make the default pipeline's walks feasible
+// (their multibody ZMP leaves the stance sole in single support: issue 14), and even the nearly
+// feasible ones fall within a few steps (issue 15 is open). So what is pinned: every pair fails at
+// 1x with its first failing violation in the first 6 s of the clip, and --find-speed finds a
+// passing speed of at least 0.67x for the two pinned so and none for the others.
 // Skips cleanly without ../shared/data.
 
 #include <gtest/gtest.h>
@@ -45,10 +45,12 @@ const char* const kClips[] = {"bvh/cmu_max_131_01_start_walk_stop.bvh", "bvh/gam
 std::vector<Case> cases() {
   std::vector<Case> out;
   for (const char* r : kRobots)
-    for (const char* c : kClips)
-      out.push_back({r, c, false,
-                     std::string(r) == "humanoid25" && (std::string(c) == "bvh/games105_walk_and_turn_left.bvh" ||
-                                                        std::string(c) == "bvh/bandai2_walk-turn-left_normal_001.bvh")});
+    for (const char* c : kClips) {
+      const std::string robot = r, clip = c;
+      const bool slower = robot == "humanoid25" && (clip == "bvh/games105_walk_and_turn_left.bvh" ||
+                                                    clip == "bvh/bandai2_walk-turn-left_normal_001.bvh");
+      out.push_back({r, c, false, slower});
+    }
   return out;
 }
 

@@ -208,7 +208,7 @@ TEST_P(WalkingController, RootLiftedInOneFrameFails) {
 // A walk at an ordinary pace (0.3 m every 0.5 s, 0.6 m/s; it passes, CleanWalkWithLongerStepsPasses)
 // played 3x faster: 1.8 m/s in 0.17 s steps. Its balance plan needs more than the bound's COM
 // shift, humanoid25's reference asks its knees for up to 1.7x their velocity limit, and G1 falls
-// in its second step. The default synthetic walk (0.15 m steps, 0.3 m/s) is not a fair negative
+// in its third step. The default synthetic walk (0.15 m steps, 0.3 m/s) is not a fair negative
 // control: at 3x (0.9 m/s) it asks G1's knees for 1.01x their 20 rad/s, and before the check judged
 // joint speeds and stance feet it passed on both robots, humanoid25 stumbling through it.
 TEST_P(WalkingController, WalkPlayedThreeTimesFasterFails) {
