@@ -148,6 +148,7 @@ void TrackingController::build(RobotData& data, const VecXCRef& q, const VecXCRe
   p.nu = nu;
   p.contact = ref.contact;
   p.max_normal_force_n = ref.max_normal_force_n;
+  p.desired_vertical_force_n = ref.desired_vertical_force_n;
   p.desired_cop_W = ref.desired_cop_W;
   p.M.resize(nv, nv);
   mj_fullM(m, p.M.data(), d->qM);  // symmetric: row- and column-major agree
@@ -271,6 +272,12 @@ void TrackingController::build(RobotData& data, const VecXCRef& q, const VecXCRe
     A_ff.noalias() += w.cop * p.P.transpose() * p.P;
     A_ff.noalias() += w.foot_cop * p.P_p.transpose() * p.P_p;
     A_ff.noalias() += w.com_moment * p.V.transpose() * p.V;
+    // Z_z = ½ W_z (Σ f_z − F_z)²: f_z is W's vertical component of each foot's force.
+    if (w.vertical_force > 0) {
+      for (int i = 0; i < nc; ++i)
+        for (int j = 0; j < nc; ++j) A_ff(6 * i + 2, 6 * j + 2) += w.vertical_force;
+      for (int i = 0; i < nc; ++i) p.b[nu + 6 * i + 2] -= w.vertical_force * ref.desired_vertical_force_n;
+    }
   }
   contact_limits(p);
 }
@@ -363,7 +370,7 @@ TrackingCommand TrackingController::solve(const TrackingProblem& p) const {
   return c;
 }
 
-std::array<double, 7> TrackingController::cost_terms(const TrackingProblem& p, const VecX& y) const {
+std::array<double, 8> TrackingController::cost_terms(const TrackingProblem& p, const VecX& y) const {
   const TrackingWeights& w = options_.weights;
   const VecX tau = y.head(p.nu), f = y.tail(p.nf);
   // q̈ from the equation of motion itself: M q̈ = S τ + J_fᵀ f − c.
@@ -400,7 +407,8 @@ std::array<double, 7> TrackingController::cost_terms(const TrackingProblem& p, c
   const double Z_tau = 0.5 * w.torque * tau.squaredNorm();
   const double Z_f = 0.5 * w.force * f.squaredNorm();
   const double Z_m = 0.5 * w.com_moment * N_com.squaredNorm();
-  return {Z_b, Z_q, Z_c, Z_tau, Z_f, Z_p, Z_m};
+  const double Z_z = p.nf > 0 ? 0.5 * w.vertical_force * std::pow(F.z() - p.desired_vertical_force_n, 2) : 0.0;
+  return {Z_b, Z_q, Z_c, Z_tau, Z_f, Z_p, Z_m, Z_z};
 }
 
 }  // namespace rt

@@ -52,7 +52,7 @@ BalancePlan plan_reference_balance(const RobotModel& model, RobotData& data, con
 
   // Δp per frame: the multibody ZMP minus the cart-table ZMP of the same COM, smoothed and capped.
   Eigen::Matrix2Xd offset = Eigen::Matrix2Xd::Zero(2, T);
-  if (T >= 3) {
+  if (o.angular_offset && T >= 3) {
     for (int f = 0; f < T; ++f) {
       const int i = std::clamp(f, 1, T - 2);
       const Vec2 acc = (mb.com_W.col(i + 1) - 2 * mb.com_W.col(i) + mb.com_W.col(i - 1)).head<2>() * fps * fps;

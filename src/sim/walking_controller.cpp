@@ -52,6 +52,7 @@ Vec2 grid_at(const Eigen::Matrix2Xd& m, double period, double t) {
 
 TrackingOptions walking_tracking_options(const DynamicsCheckOptions& o) {
   TrackingOptions t = o.tracking;
+  t.weights.vertical_force = o.walking.vertical_force_weight;
   t.foot_kp = o.walking.foot_kp;
   t.foot_kd = o.walking.foot_kd;
   return t;
@@ -244,6 +245,21 @@ void WalkingController::control(const ControlInput& in, ControlOutput& out) {
     tr.q.head<2>() += c - cm.row(0).transpose();
     tr.v.head<2>() += c_dot - cm.row(1).transpose();
     tr.a.head<2>() += c_ddot - cm.row(2).transpose();
+  }
+  {
+    // COM height: the reference's, differentiated over a frame either side (held still while
+    // holding the first frame).
+    const double h = 1.0 / signal.fps(), ts = std::max(in.t_signal_s, 0.0);
+    const double z_ref = signal.com_at(ts, map).z();
+    double zd_ref = 0, zdd_ref = 0;
+    if (!holding) {
+      const double z_prev = signal.com_at(ts - h, map).z(), z_next = signal.com_at(ts + h, map).z();
+      zd_ref = (z_next - z_prev) / (2 * h);
+      zdd_ref = (z_next - 2 * z_ref + z_prev) / (h * h);
+    }
+    const double zd = J_com.row(2).dot(*in.v);
+    const double zdd = zdd_ref + w.com_height_kd * (zd_ref - zd) + w.com_height_kp * (z_ref - com.z());
+    tr.desired_vertical_force_n = std::max(0.0, model.total_mass_kg() * (kGravity + zdd));
   }
   for (int f = 0; f < 2; ++f) {
     const auto fi = static_cast<std::size_t>(f);

@@ -43,6 +43,9 @@ struct TrackingWeights {
   /// steps on G1 fell with 1e-8).
   double force = 1e-4;
   double com_moment = 1e-3;     ///< W_m: total contact moment about the COM [(N m)⁻²]
+  /// W_z on the total vertical contact force against the reference's `desired_vertical_force_n`
+  /// [N⁻²]; 0 (the paper) leaves the COM height to the joint tasks.
+  double vertical_force = 0.0;
 };
 
 /// Physical limits on the contact wrenches (issue 5). The paper's closed form (eq. 19) is
@@ -97,6 +100,9 @@ struct TrackingReference {
   /// [N] upper bound on each foot's normal force (a contact-limit row f_z ≤ max when finite and the
   /// limits are enabled): ramps the load in and out at contact changes.
   std::array<double, 2> max_normal_force_n{{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()}};
+  /// [N] total vertical contact force wanted, m (g + z̈_com,desired); used with a positive
+  /// TrackingWeights::vertical_force.
+  double desired_vertical_force_n = 0.0;
 };
 
 /// Everything the quadratic form is built from; exposed so that tests can check each term.
@@ -104,6 +110,7 @@ struct TrackingProblem {
   std::array<bool, 2> contact{{true, true}};  ///< feet in contact (select the W_c weights)
   std::vector<int> contact_feet;  ///< feet with a wrench in f_c, in order
   std::array<double, 2> max_normal_force_n{{0, 0}};  ///< from the reference
+  double desired_vertical_force_n = 0;                 ///< from the reference
   int nu = 0, nf = 0;             ///< sizes of τ_J and f_c
   VecX qdd_desired;               ///< q̈̂' (nv)
   std::array<Vec6, 2> rdd_desired;///< r̈̂ per foot
@@ -184,8 +191,8 @@ class TrackingController {
   }
 
   /// Individual cost terms at a candidate y, evaluated directly from their definitions
-  /// (eq. 8, 12–17), for tests and diagnostics: {Z_b, Z_q, Z_c, Z_τ, Z_f, Z_p, Z_m}.
-  std::array<double, 7> cost_terms(const TrackingProblem& problem, const VecX& y) const;
+  /// (eq. 8, 12–17), for tests and diagnostics: {Z_b, Z_q, Z_c, Z_τ, Z_f, Z_p, Z_m, Z_z}.
+  std::array<double, 8> cost_terms(const TrackingProblem& problem, const VecX& y) const;
 
  private:
   /// Diagonal of W_c for both feet (stance or swing weights).

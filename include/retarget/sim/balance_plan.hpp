@@ -12,11 +12,18 @@
 /// (ViolationKind::HeavyCorrection): a reference that only passes after heavy correction is not
 /// the motion the user exported.
 ///
-/// The ZMP of the plan is the cart-table ZMP of the planned COM plus the multibody offset of the
-/// reference (its whole-body ZMP minus its own cart-table ZMP: the angular-momentum part, which the
-/// joint tracking reproduces and the COM plan cannot remove):
+/// The ZMP of the plan is the cart-table ZMP of the planned COM, optionally plus the multibody
+/// offset of the reference (its whole-body ZMP minus its own cart-table ZMP: the angular-momentum
+/// part):
 ///
 ///     p = c − h c̈ + Δp,   h = z_c / (g + z̈_c),   Δp = p_multibody(ref) − (c_ref − h c̈_ref)
+///
+/// By default Δp = 0 (`angular_offset`): the plan does not count on the reference's angular
+/// momentum. The tracking controller does not reproduce it (its cost damps the moment about the
+/// COM, and a G1's 35 N m waist saturates under a retargeted torso's swing), so a plan that leans on
+/// it puts the COM where only that momentum would hold it: on the shared walks the offset was 9 cm
+/// (median), the planned COM stayed between the feet in single support, and the robot's COM ran
+/// off sideways with the COP clamped at the stance sole's inner edge.
 
 #include "retarget/balance/zmp_plan.hpp"
 #include "retarget/core/types.hpp"
@@ -33,6 +40,9 @@ struct BalancePlanOptions {
   /// Each stance sole counts only where its ankle can hold the COP under the body's weight
   /// (ankle_reach.hpp), not as the whole sole.
   bool ankle_reach = true;
+  /// Add the reference's angular-momentum ZMP offset Δp to the planned ZMP (see above; off by
+  /// default, for ablation).
+  bool angular_offset = false;
   /// [s] Gaussian smoothing of the multibody offset Δp (finite differences of a 30 fps reference
   /// amplify its noise) and its length cap [m] (a longer one is a glitch of the motion).
   double offset_smoothing_s = 0.03;
@@ -64,7 +74,7 @@ struct BalancePlan {
   Eigen::Matrix2Xd com_W;          ///< [m] planned horizontal COM
   Eigen::Matrix2Xd com_velocity_W; ///< [m/s]
   Eigen::Matrix2Xd zmp_W;          ///< [m] planned ZMP (cart-table of the plan + offset)
-  Eigen::Matrix2Xd offset_W;       ///< [m] Δp
+  Eigen::Matrix2Xd offset_W;       ///< [m] Δp (zero without BalancePlanOptions::angular_offset)
   VecX com_height_m;               ///< [m] reference COM height (not re-planned)
   /// ‖planned − reference COM‖ over the clip for the plan without ZMP centring: how far the
   /// reference must be moved to be feasible (the centred plan moves it further, for margin). Not

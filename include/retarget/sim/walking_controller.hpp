@@ -63,6 +63,14 @@ struct WalkingControllerOptions {
   /// reference. robot.yaml `controller.foot_gains` overrides them.
   double foot_kp = 400.0;
   double foot_kd = 40.0;
+  /// COM height: the total vertical contact force is asked for m (g + z̈_ref + kd (ż_ref − ż) +
+  /// kp (z_ref − z)) with weight `vertical_force_weight` [N⁻²] in the tracking cost. Without it the
+  /// height was only the outcome of the joint tasks, and the COP term (a moment, which a smaller
+  /// normal force also shrinks) unloaded the stance foot: G1's normal force swung between 0.2 and
+  /// 1.9 body weights in single support on real walks, and the lightly loaded foot spun.
+  double vertical_force_weight = 0.3;
+  double com_height_kp = 100.0;     ///< [1/s²]
+  double com_height_kd = 20.0;      ///< [1/s]
   TrunkMappingOptions trunk = [] {
     TrunkMappingOptions t;
     t.max_scale = 1.0;              // translation and yaw only: a walk's stance width is not a scale

@@ -57,7 +57,7 @@ struct Fixture {
   }
 };
 
-double total(const std::array<double, 7>& z) {
+double total(const std::array<double, 8>& z) {
   double s = 0;
   for (double v : z) s += v;
   return s;
@@ -65,24 +65,30 @@ double total(const std::array<double, 7>& z) {
 
 TEST(TrackingController, QuadraticFormMatchesTheDirectTerms) {
   Fixture fx;
-  const TrackingController tc(*fx.model, TrackingOptions{});
+  TrackingOptions with_vertical_force;
+  with_vertical_force.weights.vertical_force = 1e-3;
+  const TrackingController tc(*fx.model, TrackingOptions{}), tc_z(*fx.model, with_vertical_force);
   for (unsigned seed : {1u, 2u, 3u}) {
     const auto [q, v] = fx.state(seed);
     for (auto [l, r] : {std::pair{true, true}, std::pair{true, false}, std::pair{false, false}}) {
-      const TrackingProblem p = tc.build(fx.data, q, v, fx.reference(q, l, r));
+     for (const TrackingController* c : {&tc, &tc_z}) {
+      TrackingReference ref = fx.reference(q, l, r);
+      ref.desired_vertical_force_n = 300;
+      const TrackingProblem p = c->build(fx.data, q, v, ref);
       const Eigen::Index ny = p.nu + p.nf;
       ASSERT_EQ(p.A.rows(), ny);
       std::mt19937 rng(seed);
       std::normal_distribution<double> n(0.0, 1.0);
       // Z(y) − Z(0) from the quadratic form must equal the sum of the terms evaluated directly.
-      const double z0 = total(tc.cost_terms(p, VecX::Zero(ny)));
+      const double z0 = total(c->cost_terms(p, VecX::Zero(ny)));
       for (int trial = 0; trial < 3; ++trial) {
         VecX y(ny);
         for (Eigen::Index i = 0; i < ny; ++i) y[i] = (i < p.nu ? 20.0 : 100.0) * n(rng);
         const double quad = 0.5 * y.dot(p.A * y) + y.dot(p.b);
-        const double direct = total(tc.cost_terms(p, y)) - z0;
+        const double direct = total(c->cost_terms(p, y)) - z0;
         EXPECT_NEAR(quad, direct, 1e-6 * std::max(1.0, std::abs(direct)));
       }
+     }
     }
   }
 }
