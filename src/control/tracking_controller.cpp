@@ -97,7 +97,7 @@ void TrackingController::contact_limits(TrackingProblem& p) const {
     p.d_contact.resize(0);
     return;
   }
-  constexpr int kRows = 11;
+  constexpr int kRows = 17;
   // Optional rows f_z ≤ f_max (−f_z ≥ −f_max) after the per-foot blocks.
   int capped = 0;
   for (int f : p.contact_feet) capped += std::isfinite(p.max_normal_force_n[static_cast<std::size_t>(f)]);
@@ -116,7 +116,6 @@ void TrackingController::contact_limits(TrackingProblem& p) const {
     const Mat3& R = p.R_contact_W[static_cast<std::size_t>(i)];
     const Eigen::RowVector3d ex = R.col(0).transpose(), ey = R.col(1).transpose(), ez = R.col(2).transpose();
     const double half_l = 0.5 * o.cop_margin * sole.size_m.x(), half_w = 0.5 * o.cop_margin * sole.size_m.y();
-    const double yaw = mu * std::min(half_l, half_w);
     auto block = p.C_contact.block(kRows * i, 6 * i, kRows, 6);
     // Rows act on (f; n) in W; sole-frame components are R.col(k)ᵀ f and R.col(k)ᵀ n.
     block.row(0) << ez, 0, 0, 0;                    // f_z ≥ f_min
@@ -129,8 +128,20 @@ void TrackingController::contact_limits(TrackingProblem& p) const {
     block.row(6) << half_w * ez, ex;
     block.row(7) << half_l * ez, -ey;               // |n_y| ≤ (l/2) f_z: COP along the sole
     block.row(8) << half_l * ez, ey;
-    block.row(9) << yaw * ez, -ez;                  // |n_z| ≤ μ' min(l, w)/2 f_z
-    block.row(10) << yaw * ez, ez;
+    // Yaw: the exact bounds for a rectangle whose corners each carry a force in the pyramid
+    // (Caron, Pham, Nakamura, ICRA 2015), with X, Y the half-length and half-width:
+    //   n_z ≤ μ'(X + Y) f_z − |Y f_x + μ' n_x| − |X f_y + μ' n_y|,
+    //   n_z ≥ −μ'(X + Y) f_z + |Y f_x − μ' n_x| + |X f_y − μ' n_y|,
+    // each absolute value split into its two signs. A foot loaded at an edge, or pushed sideways,
+    // holds less yaw than a centred one.
+    const double X = half_l, Y = half_w;
+    int row = 9;
+    for (const double s1 : {1.0, -1.0})
+      for (const double s2 : {1.0, -1.0}) {
+        const Eigen::RowVector3d f_part = mu * (X + Y) * ez - s1 * Y * ex - s2 * X * ey;
+        block.row(row++) << f_part, -s1 * mu * ex - s2 * mu * ey - ez;  // upper bound on n_z
+        block.row(row++) << f_part, s1 * mu * ex + s2 * mu * ey + ez;   // lower bound on n_z
+      }
   }
 }
 

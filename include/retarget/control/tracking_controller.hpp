@@ -58,9 +58,13 @@ struct TrackingWeights {
 ///
 /// Per foot in contact, in its sole frame (x, y along the sole's length and width turned by the
 /// foot's heading, z vertical: the floor is horizontal):
-///   f_z ≥ f_min;  |f_x|, |f_y| ≤ μ' f_z;  |n_x| ≤ c·(w/2)·f_z, |n_y| ≤ c·(l/2)·f_z (COP inside the
-///   sole shrunk by c);  |n_z| ≤ μ'·c·min(l, w)/2·f_z (yaw friction, conservative), with
-///   μ' = friction_margin · μ / √2 (the pyramid inscribed in the friction cone at margin 1).
+///   f_z ≥ f_min;  |f_x|, |f_y| ≤ μ' f_z;  |n_x| ≤ Y f_z, |n_y| ≤ X f_z (COP inside the sole
+///   shrunk by c: X = c·l/2, Y = c·w/2);  and the yaw moment within the exact bounds of a
+///   rectangle whose corners each push inside the friction pyramid (Caron, Pham, Nakamura 2015):
+///   −μ'(X+Y) f_z + |Y f_x − μ' n_x| + |X f_y − μ' n_y| ≤ n_z ≤ μ'(X+Y) f_z − |Y f_x + μ' n_x| − |X f_y + μ' n_y|,
+///   with μ' = friction_margin · μ / √2 (the pyramid inscribed in the friction cone at margin 1).
+///   (A bound |n_z| ≤ μ' min(X, Y) f_z alone admitted yaw moments that a foot loaded at an edge, or
+///   pushed along its sole, cannot hold: G1's stance foot spun 40-70° on real walks.)
 struct ContactConstraintOptions {
   bool enabled = true;
   double friction = 0;             ///< μ; ≤ 0: the robot's floor friction (robot.yaml simulation.friction)

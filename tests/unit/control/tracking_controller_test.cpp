@@ -71,24 +71,24 @@ TEST(TrackingController, QuadraticFormMatchesTheDirectTerms) {
   for (unsigned seed : {1u, 2u, 3u}) {
     const auto [q, v] = fx.state(seed);
     for (auto [l, r] : {std::pair{true, true}, std::pair{true, false}, std::pair{false, false}}) {
-     for (const TrackingController* c : {&tc, &tc_z}) {
-      TrackingReference ref = fx.reference(q, l, r);
-      ref.desired_vertical_force_n = 300;
-      const TrackingProblem p = c->build(fx.data, q, v, ref);
-      const Eigen::Index ny = p.nu + p.nf;
-      ASSERT_EQ(p.A.rows(), ny);
-      std::mt19937 rng(seed);
-      std::normal_distribution<double> n(0.0, 1.0);
-      // Z(y) − Z(0) from the quadratic form must equal the sum of the terms evaluated directly.
-      const double z0 = total(c->cost_terms(p, VecX::Zero(ny)));
-      for (int trial = 0; trial < 3; ++trial) {
-        VecX y(ny);
-        for (Eigen::Index i = 0; i < ny; ++i) y[i] = (i < p.nu ? 20.0 : 100.0) * n(rng);
-        const double quad = 0.5 * y.dot(p.A * y) + y.dot(p.b);
-        const double direct = total(c->cost_terms(p, y)) - z0;
-        EXPECT_NEAR(quad, direct, 1e-6 * std::max(1.0, std::abs(direct)));
+      for (const TrackingController* c : {&tc, &tc_z}) {
+        TrackingReference ref = fx.reference(q, l, r);
+        ref.desired_vertical_force_n = 300;
+        const TrackingProblem p = c->build(fx.data, q, v, ref);
+        const Eigen::Index ny = p.nu + p.nf;
+        ASSERT_EQ(p.A.rows(), ny);
+        std::mt19937 rng(seed);
+        std::normal_distribution<double> n(0.0, 1.0);
+        // Z(y) − Z(0) from the quadratic form must equal the sum of the terms evaluated directly.
+        const double z0 = total(c->cost_terms(p, VecX::Zero(ny)));
+        for (int trial = 0; trial < 3; ++trial) {
+          VecX y(ny);
+          for (Eigen::Index i = 0; i < ny; ++i) y[i] = (i < p.nu ? 20.0 : 100.0) * n(rng);
+          const double quad = 0.5 * y.dot(p.A * y) + y.dot(p.b);
+          const double direct = total(c->cost_terms(p, y)) - z0;
+          EXPECT_NEAR(quad, direct, 1e-6 * std::max(1.0, std::abs(direct)));
+        }
       }
-     }
     }
   }
 }
@@ -116,6 +116,48 @@ TEST(TrackingController, SolutionIsTheMinimumAndSatisfiesTheEquationOfMotion) {
   VecX rhs = p.J_contact.transpose() * c.f_contact;
   rhs.tail(p.nu) += c.tau_raw;
   EXPECT_LT((p.M * c.qdd + p.bias - rhs).norm(), 1e-8 * std::max(1.0, rhs.norm()));
+}
+
+// The contact-limit rows of one foot are the contact wrench cone of its (shrunk) sole rectangle:
+// every wrench made of forces inside the friction pyramid at its four corners satisfies them,
+// and a yaw moment about a single loaded corner (which no contact can hold) violates them.
+TEST(TrackingController, ContactLimitsAreTheWrenchConeOfTheSoleCorners) {
+  Fixture fx;
+  TrackingOptions o;
+  const TrackingController tc(*fx.model, o);
+  const auto [q, v] = fx.state(5);
+  const TrackingProblem p = tc.build(fx.data, q, v, fx.reference(q, true, false));
+  ASSERT_EQ(p.contact_feet.size(), 1u);
+  const Sole& sole = fx.model->soles()[static_cast<std::size_t>(p.contact_feet[0])];
+  const double X = 0.5 * o.contact.cop_margin * sole.size_m.x(), Y = 0.5 * o.contact.cop_margin * sole.size_m.y();
+  const double mu = o.contact.friction_margin * fx.model->config().simulation.friction / std::sqrt(2.0);
+  const Mat3& R = p.R_contact_W[0];
+  const auto wrench_W = [&](const Vec3& f_S, const Vec3& n_S) {
+    VecX w(6);
+    w << R * f_S, R * n_S;
+    return w;
+  };
+  const auto margin = [&](const VecX& w) { return (p.C_contact * w - p.d_contact).minCoeff(); };
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const std::array<Vec2, 4> corners = {Vec2(X, Y), Vec2(-X, Y), Vec2(-X, -Y), Vec2(X, -Y)};
+  for (int trial = 0; trial < 2000; ++trial) {
+    Vec3 f_S = Vec3::Zero(), n_S = Vec3::Zero();
+    for (const Vec2& c : corners) {
+      const double fz = trial % 4 == 0 && u(rng) < 0.5 ? 0.0 : 100 * u(rng);
+      // Pyramid edges half of the time (where the bounds are tight), inside otherwise.
+      const double sx = trial % 2 ? (u(rng) < 0.5 ? -1.0 : 1.0) : 2 * u(rng) - 1;
+      const double sy = trial % 2 ? (u(rng) < 0.5 ? -1.0 : 1.0) : 2 * u(rng) - 1;
+      const Vec3 f(sx * mu * fz, sy * mu * fz, fz);
+      f_S += f;
+      n_S += Vec3(c.x(), c.y(), 0).cross(f);
+    }
+    EXPECT_GE(margin(wrench_W(f_S, n_S)), -1e-9 * std::max(1.0, f_S.z())) << "trial " << trial;
+  }
+  const double fz = 300;
+  // COP at the centre: a yaw moment of μ' min(X, Y) f_z / 2 is held; at a corner none is.
+  EXPECT_GE(margin(wrench_W(Vec3(0, 0, fz), Vec3(0, 0, 0.5 * mu * std::min(X, Y) * fz))), 0.0);
+  EXPECT_LT(margin(wrench_W(Vec3(0, 0, fz), Vec3(Y * fz, -X * fz, 0.5 * mu * std::min(X, Y) * fz))), 0.0);
 }
 
 TEST(TrackingController, StandingNeedsSupportForcesEqualToWeight) {

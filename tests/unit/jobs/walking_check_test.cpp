@@ -2,16 +2,20 @@
 // and G1, with the outcomes pinned so that they cannot change silently (in either direction: a clip
 // that starts passing must update this file and the README's table too).
 //
-// Measured outcome with the walking controller (README, "What the check finds on real clips"): the
-// Bandai walk-turn-left passes at 1x on both robots (since the controller asks the contact forces for
-// the reference's COM height and the balance plan stopped counting on the reference's angular
-// momentum; before, humanoid25 passed it at 0.93x and G1 at no speed). The other three walks fail at
-// every speed down to 0.25x: the balance plan needs COM shifts of 7-13 cm for some of them (issue
-// 14), and the robot spins a lightly loaded stance foot within a few steps (issue 15 is open);
-// humanoid25's GAMES-105, which passed at 0.90x before, is among them. So what is pinned: the
-// Bandai walk passes at 1x; every other pair fails at 1x with its first failing violation in the
-// first 6 s of the clip, and --find-speed finds no passing speed for it (`passes_slower` pins a
-// pair that passes between 0.67x and 1x; none does now).
+// Measured outcome with the walking controller (README, "What the check finds on real clips"):
+// humanoid25 passes the Bandai walk-turn-left at 1x; G1 passes it at 0.84x, and humanoid25
+// GAMES-105 at 0.85x (issue 15's bar for a walk that cannot pass at 1x is a passing speed of at
+// least 0.67x). humanoid25's GAMES-105 is marginal: from the exported CSV (`retarget validate`) it
+// passes at 1x, while the in-memory reference here, without the CSV's rounding, has a stance foot
+// 6.5 cm off its footstep 0.16 s before the clip's end. They pass since the controller asks the
+// contact forces for the reference's COM height, the balance plan stopped counting on the
+// reference's angular momentum and the contact limits bound the yaw moment as the sole's corners
+// can hold it (before: humanoid25 0.93x and 0.90x, G1 no speed). CMU 131_01 and PyMO fail at every
+// speed down to 0.25x on both robots, and so does G1's GAMES-105: the balance plan needs COM shifts
+// of 8-13 cm for them (issue 14), and the robot falls within a few steps (issue 15 is open). So
+// what is pinned: humanoid25's Bandai walk passes at 1x, G1's Bandai walk and humanoid25's
+// GAMES-105 pass between 0.67x and 1x; every other pair fails at 1x with its first failing
+// violation in the first 6 s of the clip, and --find-speed finds no passing speed for it.
 // Skips cleanly without ../shared/data.
 
 #include <gtest/gtest.h>
@@ -46,8 +50,10 @@ std::vector<Case> cases() {
   std::vector<Case> out;
   for (const char* r : kRobots)
     for (const char* c : kClips) {
-      const std::string clip = c;
-      out.push_back({r, c, clip == "bvh/bandai2_walk-turn-left_normal_001.bvh", false});
+      const std::string robot = r, clip = c;
+      const bool bandai = clip == "bvh/bandai2_walk-turn-left_normal_001.bvh";
+      const bool passes = robot == "humanoid25" && bandai;
+      out.push_back({r, c, passes, robot == "g1" ? bandai : clip == "bvh/games105_walk_and_turn_left.bvh"});
     }
   return out;
 }
@@ -71,7 +77,10 @@ TEST_P(WalkingCheck, OutcomeIsPinned) {
   request.check = default_check_options(model);
   const DynamicsCheckResult at_1x = run_dynamics_check(model, reference, request.check);
   if (c.passes) {
-    EXPECT_TRUE(at_1x.passed) << "this walk no longer passes the check at 1x";
+    std::string failing;
+    for (const Violation& v : at_1x.violations)
+      if (violation_fails_check(v.kind)) failing += format(" %s at %.2f s (%s);", violation_name(v.kind), v.start_s, v.detail.c_str());
+    EXPECT_TRUE(at_1x.passed) << "this walk no longer passes the check at 1x:" << failing;
     EXPECT_FALSE(at_1x.fell);
     std::cout << format("[ outcome  ] %-10s %-46s 1x: passes\n", c.robot, c.clip);
     return;
