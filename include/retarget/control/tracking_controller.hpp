@@ -64,7 +64,8 @@ struct TrackingWeights {
 ///   −μ'(X+Y) f_z + |Y f_x − μ' n_x| + |X f_y − μ' n_y| ≤ n_z ≤ μ'(X+Y) f_z − |Y f_x + μ' n_x| − |X f_y + μ' n_y|,
 ///   with μ' = friction_margin · μ / √2 (the pyramid inscribed in the friction cone at margin 1).
 ///   (A bound |n_z| ≤ μ' min(X, Y) f_z alone admitted yaw moments that a foot loaded at an edge, or
-///   pushed along its sole, cannot hold: G1's stance foot spun 40-70° on real walks.)
+///   pushed along its sole, cannot hold: G1's stance foot spun 30-70° before its falls on real
+///   walks.)
 struct ContactConstraintOptions {
   bool enabled = true;
   double friction = 0;             ///< μ; ≤ 0: the robot's floor friction (robot.yaml simulation.friction)
