@@ -5,9 +5,9 @@
 
 #include "retarget/core/error.hpp"
 #include "retarget/core/gaussian_filter.hpp"
+#include "retarget/model/ankle_reach.hpp"
 #include "retarget/model/centroidal.hpp"
 #include "retarget/model/robot_model.hpp"
-#include "retarget/sim/ankle_reach.hpp"
 #include "retarget/sim/reference_signal.hpp"
 
 namespace rt {

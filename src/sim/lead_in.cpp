@@ -7,8 +7,8 @@
 #include "retarget/ik/landmark_ik.hpp"
 #include "retarget/model/kinematics.hpp"
 #include "retarget/model/robot_model.hpp"
+#include "retarget/model/sole_geometry.hpp"
 #include "retarget/reference/robot_mapping.hpp"
-#include "retarget/sim/sole_geometry.hpp"
 
 namespace rt {
 

@@ -6,9 +6,9 @@
 
 #include "retarget/balance/support_polygon.hpp"
 #include "retarget/model/kinematics.hpp"
-#include "retarget/sim/contact_trunk_map.hpp"
 #include "retarget/model/robot_model.hpp"
-#include "retarget/sim/sole_geometry.hpp"
+#include "retarget/model/sole_geometry.hpp"
+#include "retarget/sim/contact_trunk_map.hpp"
 
 namespace rt {
 

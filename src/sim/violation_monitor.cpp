@@ -8,7 +8,7 @@
 #include "retarget/core/strings.hpp"
 #include "retarget/model/kinematics.hpp"
 #include "retarget/model/robot_model.hpp"
-#include "retarget/sim/sole_geometry.hpp"
+#include "retarget/model/sole_geometry.hpp"
 
 namespace rt {
 

@@ -8,10 +8,10 @@
 #include "retarget/balance/support_polygon.hpp"
 #include "retarget/balance/zmp_plan.hpp"
 #include "retarget/model/kinematics.hpp"
-#include "retarget/sim/contact_trunk_map.hpp"
 #include "retarget/model/robot_model.hpp"
+#include "retarget/model/sole_geometry.hpp"
+#include "retarget/sim/contact_trunk_map.hpp"
 #include "retarget/sim/dynamics_check.hpp"
-#include "retarget/sim/sole_geometry.hpp"
 
 namespace rt {
 

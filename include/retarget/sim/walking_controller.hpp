@@ -35,7 +35,7 @@
 #include <vector>
 
 #include "retarget/control/trunk_mapping.hpp"
-#include "retarget/sim/ankle_reach.hpp"
+#include "retarget/model/ankle_reach.hpp"
 #include "retarget/sim/balance_plan.hpp"
 #include "retarget/sim/check_controller.hpp"
 

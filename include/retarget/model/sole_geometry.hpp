@@ -1,5 +1,5 @@
 #pragma once
-/// Sole frames on a flat floor, shared by the check's controllers and its monitor.
+/// Sole frames on a flat floor, shared by the check (its controllers and monitor) and com-plan.
 
 #include <array>
 

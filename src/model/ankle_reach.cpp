@@ -1,11 +1,11 @@
-#include "retarget/sim/ankle_reach.hpp"
+#include "retarget/model/ankle_reach.hpp"
 
 #include <algorithm>
 #include <cmath>
 
 #include "retarget/model/kinematics.hpp"
 #include "retarget/model/robot_model.hpp"
-#include "retarget/sim/sole_geometry.hpp"
+#include "retarget/model/sole_geometry.hpp"
 
 namespace rt {
 

@@ -1,6 +1,6 @@
 // The part of each sole where the ankle's effort limits can hold the COP (ankle_reach.hpp).
 
-#include "retarget/sim/ankle_reach.hpp"
+#include "retarget/model/ankle_reach.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "retarget/sim/sole_geometry.hpp"
+#include "retarget/model/sole_geometry.hpp"
 
 #include <cmath>
 
