@@ -103,6 +103,7 @@ Score score_zmp(const std::vector<SupportPolygon>& polygons, const Eigen::Matrix
 ComPlanPass::ComPlanPass() {
   table_.add("period", options_.plan.period_s, "[s] planning grid", {0.001, 0.1, "s"});
   table_.add("margin", options_.margin_m, "[m] the planned ZMP keeps this far inside the support polygon");
+  table_.add("ankle_reach", options_.ankle_reach, "plan the ZMP only where each ankle's effort limit holds the COP under the robot's weight");
   table_.add("com_tracking", options_.plan.com_weight, "plan: weight of |c - c_retargeted|^2 [1/m^2]");
   table_.add("jerk", options_.plan.jerk_weight, "plan: weight of |c'''|^2 [s^6/m^2] (2e-8: 3 Hz low-pass)");
   table_.add("flight_acceleration", options_.plan.flight_acceleration_weight, "plan: weight of |c''|^2 on flight samples");
@@ -168,6 +169,8 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
   // where they are; a swing sole follows its low-passed trajectory, bent to meet the stance poses
   // at lift-off and touchdown (the low-pass alone would jump there) and never lower than it was.
   const std::array<Mat3, 2> R_L_sole = sole_frames_in_links(model, data);
+  const std::array<SoleReach, 2> reach =
+      options_.ankle_reach ? ankle_reach(model, model.total_mass_kg() * kGravity) : whole_soles(model);
   Frames frames;
   frames.soles.resize(static_cast<std::size_t>(T));
   frames.polygon.resize(static_cast<std::size_t>(T));
@@ -186,7 +189,7 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
       if (f > 0 && sole_pose[k].col(f).tail<4>().dot(sole_pose[k].col(f - 1).tail<4>()) < 0) sole_pose[k].col(f).tail<4>() *= -1;
     }
     frames.polygon[static_cast<std::size_t>(f)] = stance_support_polygon(model, data, down);
-    shrunk[static_cast<std::size_t>(f)] = frames.polygon[static_cast<std::size_t>(f)].half_planes(options_.margin_m);
+    shrunk[static_cast<std::size_t>(f)] = stance_support_polygon(model, data, down, reach).half_planes(options_.margin_m);
   }
   for (std::size_t k = 0; k < 2; ++k) {
     MatX held = sole_pose[k];
@@ -289,6 +292,18 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
   }
   ZmpPlanOptions plan_options = options_.plan;
   plan_options.period_s = dt;
+  // A body at rest has no momentum to change: its ZMP is its COM. The plan's rested ends (three
+  // samples held equal) get no multibody offset, so the clip starts and ends on a COM its support
+  // holds statically (with the moving motion's offset, G1's PyMO walk started with its COM 2 cm
+  // beyond the stance toe, a pose no robot can be put in at rest).
+  auto zero_rest_offsets = [&] {
+    if (K < 7) return;
+    for (int k = 0; k < 3; ++k) {
+      if (plan_options.rest_at_start) samples[static_cast<std::size_t>(k)].zmp_offset_W.setZero();
+      if (plan_options.rest_at_end) samples[static_cast<std::size_t>(K - 1 - k)].zmp_offset_W.setZero();
+    }
+  };
+  zero_rest_offsets();
 
   // COM-following IK.
   IkOptions ik_options;
@@ -402,6 +417,7 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
     // cart-table ZMP.
     offset = angular_part(realised, com_target);
     for (int k = 0; k < K; ++k) samples[static_cast<std::size_t>(k)].zmp_offset_W = at_time(offset, fps, k * dt);
+    zero_rest_offsets();
   }
 
   // 5. Whole-body stage, on the export grid (`fps`, where the exported motion's ZMP is measured):
@@ -467,7 +483,7 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
         t.pose.R_W = X.linear() * R_L_sole[foot];
       }
       polygon_o[static_cast<std::size_t>(k)] = stance_support_polygon(model, data, down);
-      co.zmp_support[static_cast<std::size_t>(k)] = polygon_o[static_cast<std::size_t>(k)].half_planes(options_.margin_m);
+      co.zmp_support[static_cast<std::size_t>(k)] = stance_support_polygon(model, data, down, reach).half_planes(options_.margin_m);
     }
     auto score_o = [&](const Eigen::Matrix2Xd& zmp) { return score_zmp(polygon_o, zmp, 0.01); };  // the metric's "within 1 cm"
     // The ZMP rows' Jacobians are large (c_z fps² / g ≈ 60 at 30 fps): the stance rows are firmer
@@ -483,6 +499,8 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
     co.iterations = options_.whole_body_iterations;
     co.zmp_weight = options_.whole_body_zmp_weight;
     co.fps = fo;
+    co.zmp_rest_start = options_.plan.rest_at_start;
+    co.zmp_rest_end = options_.plan.rest_at_end;
     const MatX q1o = refine::solve_smooth_correction(model, data, q0o, q0o, feet, co, &whole_body);
     // The correction to the source rate, joints clamped (the limit rows are penalties).
     MatX q1 = q0;

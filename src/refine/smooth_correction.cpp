@@ -122,11 +122,13 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
     int frame, dof;    // frames frame and frame + 1, velocity coordinate dof (a joint)
     double residual;   // [rad per frame] beyond the limit
   };
-  // A violated ZMP half-plane at `frame`: n, the residual nᵀp − d [m], and the terms the Jacobian holds fixed.
+  // A violated ZMP half-plane at `frame`: n, the residual nᵀp − d [m], and the terms the Jacobian
+  // holds fixed; at_rest: a rested end's row on its COM (p = c).
   struct ZmpRow {
     int frame;
     Vec2 n;
     double residual, com_height_m, vertical_force;  // c_z [m], g + c̈_z [m/s²]
+    bool at_rest = false;
   };
   const bool zmp_on = o.zmp_support.size() == static_cast<std::size_t>(T) && o.zmp_weight > 0 && o.fps > 0 && T >= 3;
   const double mass = m->body_subtreemass[model.root_body()];
@@ -246,6 +248,13 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
         for (const HalfPlane& hp : support) {
           const double r = hp.n.dot(p) - hp.d;
           if (r > 0) zmp_out.push_back({f, hp.n, r, c.z(), fz});
+        }
+      }
+      for (const int f : {0, T - 1}) {
+        if (!(f == 0 ? o.zmp_rest_start : o.zmp_rest_end)) continue;
+        for (const HalfPlane& hp : o.zmp_support[static_cast<std::size_t>(f)]) {
+          const double r = hp.n.dot(com_all.col(f).head<2>()) - hp.d;
+          if (r > 0) zmp_out.push_back({f, hp.n, r, com_all(2, f), kGravity, true});
         }
       }
       if (!zmp_out.empty()) used.assign(static_cast<std::size_t>(nv), 1);
@@ -378,6 +387,13 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
       std::array<VecX, 3> G;
       for (const ZmpRow& z : zmp) {
         const int f = z.frame;
+        if (z.at_rest) {
+          jacobians_at(f);
+          const VecX nJ = J_com[static_cast<std::size_t>(f)].transpose() * z.n;
+          b[static_cast<std::size_t>(f)].noalias() -= o.zmp_weight * z.residual * nJ;
+          Dblk[static_cast<std::size_t>(f)].noalias() += o.zmp_weight * nJ * nJ.transpose();
+          continue;
+        }
         for (int k = f - 1; k <= f + 1; ++k) jacobians_at(k);
         const double a = z.com_height_m / z.vertical_force * f2, l = f2 / (mass * z.vertical_force);
         const Vec2 s_n(-z.n.y(), z.n.x());  // nᵀ S, S L̇ = (L̇_y, −L̇_x)

@@ -23,7 +23,8 @@
 /// c_z / (g + c̈_z) fixed and takes L̇ ≈ A_L(q_f) (δ_f+1 − 2 δ_f + δ_f−1) fps² (A_L the centroidal
 /// angular momentum matrix), which keeps the normal equations block pentadiagonal; the cost is the
 /// exact one, so the backtracking judges every step by the real ZMP. These rows move every
-/// coordinate (the COM depends on all of them).
+/// coordinate (the COM depends on all of them). A motion that must start (end) at rest gets, at its
+/// first (last) frame, the static rows nᵀc − d on its COM instead: at rest the ZMP is the COM.
 ///
 /// Gauss–Newton: the rows are linearised at the current Δ, and the normal equations — block
 /// pentadiagonal over frames, each block over the coordinates any row can move (the root, the legs,
@@ -59,6 +60,8 @@ struct CorrectionOptions {
   std::vector<std::vector<HalfPlane>> zmp_support;
   double zmp_weight = 1e4;
   double fps = 0;
+  /// The first / last frame is at rest: its COM (the ZMP of a body at rest) gets the ZMP rows.
+  bool zmp_rest_start = false, zmp_rest_end = false;
 };
 
 struct CorrectionReport {

@@ -41,6 +41,11 @@ namespace rt {
 struct ComPlanPassOptions {
   ZmpPlanOptions plan;                 ///< grid, tracking and jerk weights, rest at the ends
   double margin_m = 0.015;             ///< [m] the planned ZMP keeps this far inside each support polygon
+  /// Plan (and correct, in the whole-body stage) the ZMP inside each sole's ankle reach
+  /// (model/ankle_reach.hpp: where the ankle's effort limit holds the COP under the robot's weight),
+  /// the support the dynamics check's controller has, rather than the whole sole: on G1 the toe's
+  /// last 4 cm is beyond its 35 N m ankle pitch. The ZMP metric still counts the whole soles.
+  bool ankle_reach = true;
   double max_offset_m = 0.2;           ///< [m] the multibody correction Δp is clipped to this length
   int iterations = 3;                  ///< plan + COM-following rounds (multibody correction)
   double smoothing_s = 0.03;           ///< [s] σ of the Gaussian low-pass of the pose and the COM height

@@ -6,11 +6,16 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iostream>
 
 #include "retarget/jobs/convert_job.hpp"
+#include "retarget/model/ankle_reach.hpp"
+#include "retarget/model/centroidal.hpp"
 #include "retarget/model/kinematics.hpp"
 #include "retarget/model/robot_data.hpp"
 #include "retarget/model/robot_model.hpp"
+#include "retarget/passes/stance_support.hpp"
+#include "retarget/reference/robot_mapping.hpp"
 #include "support/test_paths.hpp"
 
 namespace rt {
@@ -79,6 +84,42 @@ TEST(ComPlanPass, MovesTheZmpOfARealWalkIntoTheSupport) {
   EXPECT_GT(pass->statistics.get("max-com-shift"), 0.01);
   // The whole-body stage ran on the export grid and left fewer frames outside than it found.
   EXPECT_LT(pass->statistics.get("whole-body-zmp", 1e9), 10);
+}
+
+// The pass plans the COM at rest at the clip's ends, and at rest the ZMP is the COM: the first frame
+// must put it where the robot can hold it still, over the stance soles where the ankles' effort
+// limits hold the COP (ankle_reach.hpp). PyMO's walk starts mid-step on one foot; the plan once put
+// its first frame's COM 2 cm beyond the G1's stance toe (the moving motion's angular-momentum
+// offset credited to the rested end, the whole sole counted although G1's ankle pitch only holds
+// the COP 10 cm ahead of its axis), and the dynamics check's G1 fell over its toe 0.2 s into the
+// clip. CMU 131_01 ends standing: its last frame too. (PyMO's clip ends mid-stride, its last frame
+// on one foot with the COM on its way to the next step: the pass cannot stop it within the clip.)
+TEST(ComPlanPass, StartsAndEndsOnAComTheAnklesHold) {
+  struct Case {
+    const char* clip;
+    bool check_end;
+  };
+  for (const Case c : {Case{"bvh/pymo_AV_8Walk_Meredith_HVHA_Rep1.bvh", false}, Case{"bvh/cmu_max_131_01_start_walk_stop.bvh", true}}) {
+    RT_REQUIRE_SHARED(clip, c.clip);
+    const std::unique_ptr<RobotModel> model = RobotModel::load("g1");
+    const ConvertResult planned = convert(*model, clip, true);
+    const Reference& ref = planned.clip.reference;
+    ASSERT_TRUE(ref.has_contacts());
+    const ReferenceRobotMap map(*model, ref, "test");
+    const std::array<SoleReach, 2> reach = ankle_reach(*model, model->total_mass_kg() * kGravity);
+    RobotData data(*model);
+    std::vector<int> frames{0};
+    if (c.check_end) frames.push_back(ref.num_frames() - 1);
+    for (const int f : frames) {
+      update_kinematics(*model, data, map.q(ref, f));
+      const std::array<bool, 2> down{{ref.contact[0][static_cast<std::size_t>(f)] != 0, ref.contact[1][static_cast<std::size_t>(f)] != 0}};
+      const SupportPolygon held = stance_support_polygon(*model, data, down, reach);
+      ASSERT_FALSE(held.empty()) << c.clip << " frame " << f;
+      const double outside = held.signed_distance(com_position(*model, data).head<2>());
+      std::cout << "[ measured ] " << c.clip << " frame " << f << ": COM " << -outside << " m inside the ankles' reach\n";
+      EXPECT_LT(outside, 0.0) << c.clip << " frame " << f << ": the COM is " << outside << " m beyond what the ankles hold";
+    }
+  }
 }
 
 // The optical C3D gait (BTK mocap36): 38 % (10 %) before, 98 % (97 %) after.
