@@ -112,6 +112,11 @@ BalancePlan plan_reference_balance(const RobotModel& model, RobotData& data, con
     plan.offset_W.col(k) = s.zmp_offset_W;
     plan.com_height_m[k] = at_time(com_z, fps, t)[0];
   }
+  // The robot starts at rest on the first frame's COM, so the plan starts there too (pinned; the
+  // ZMP centring, 100 times the COM's weight, once started it at the support's centroid: 12 cm from
+  // where a com-plan reference of PyMO's walk put G1's COM, which the controller then chased with
+  // the COP clamped at the edge for the whole settle phase).
+  samples.front().com_weight_scale = 1e4;
   ZmpPlanOptions po = o.plan;
   po.period_s = dt;
   // The check starts the robot at rest on the first frame; it ends when the clip does, so the end
