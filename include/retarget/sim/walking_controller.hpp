@@ -79,7 +79,14 @@ struct WalkingControllerOptions {
   // Online re-planning.
   bool replan = true;
   double replan_period_s = 0.05;    ///< [s] how often the prediction is checked
-  double replan_horizon_s = 0.8;    ///< [s] window (on the plan's grid, so its ZMP is the plan's)
+  /// [s] window (on the plan's grid, so its ZMP is the plan's), about one step: the window starts
+  /// from the measured state and must rejoin the plan by its end, so a recovery is completed within
+  /// the step whose touchdown the reference fixes. With 0.8 s (more than a step) the rejoin lay
+  /// beyond the next footstep, every re-plan accepted the lag it measured and was re-pinned before
+  /// it caught up, and the robot fell behind feet that landed where the reference put them (20-25
+  /// cm behind on G1's com-plan Bandai walk, which fell 0.13 s before its end; it passes with 0.3-
+  /// 0.6 s windows, and humanoid25's com-plan GAMES-105 likewise).
+  double replan_horizon_s = 0.5;
   /// [m] DCM error below which the plan is kept: a feasible reference tracked well never re-plans.
   double replan_error_m = 0.02;
   /// [1/m²] the window's pull of its ZMP to each sample's support centre, weak where the whole-clip
