@@ -99,14 +99,15 @@ TEST(ComPlanPass, StartsAndEndsOnAComTheAnklesHold) {
     const char* clip;
     bool check_end;
   };
+  RT_REQUIRE_SHARED(robots, "robots");
+  const std::unique_ptr<RobotModel> model = RobotModel::load("g1");
+  const std::array<SoleReach, 2> reach = ankle_reach(*model, model->total_mass_kg() * kGravity);
   for (const Case c : {Case{"bvh/pymo_AV_8Walk_Meredith_HVHA_Rep1.bvh", false}, Case{"bvh/cmu_max_131_01_start_walk_stop.bvh", true}}) {
     RT_REQUIRE_SHARED(clip, c.clip);
-    const std::unique_ptr<RobotModel> model = RobotModel::load("g1");
     const ConvertResult planned = convert(*model, clip, true);
     const Reference& ref = planned.clip.reference;
     ASSERT_TRUE(ref.has_contacts());
     const ReferenceRobotMap map(*model, ref, "test");
-    const std::array<SoleReach, 2> reach = ankle_reach(*model, model->total_mass_kg() * kGravity);
     RobotData data(*model);
     std::vector<int> frames{0};
     if (c.check_end) frames.push_back(ref.num_frames() - 1);
