@@ -346,6 +346,8 @@ RefinePass::RefinePass() {
   table_.add("swing_weight", options_.swing_weight, "weight of the swing sole targets [1/m^2]");
   table_.add("floor_weight", options_.floor_weight, "weight of collision points below the floor [1/m^2]");
   table_.add("rounds", options_.rounds, "smooth + project rounds at most", {0, 100, ""});
+  table_.add("hold_iterations", options_.hold_iterations,
+             "further (damped) Gauss-Newton steps of the smooth correction while a stance sole or a limit is missed (0: none)", {0, 1000, ""});
   table_.add("max_iterations", options_.max_iterations, "projection iterations per frame", {0, 10000, ""});
   table_.add("landmark_metric", options_.landmark_metric, "weigh the foot correction by the landmark cost (false: joint-space stiffness only)");
 }
@@ -431,6 +433,7 @@ void RefinePass::run(Clip& clip, PassContext& ctx) {
   co.q_upper = model.q_upper().array() - 2 * o.limit_margin;
   co.max_step = speed_limit / fps;
   co.metric_dofs = metric_dofs;
+  co.extra_iterations = o.hold_iterations;
 
   // 5. The per-frame projection (every row met, jittery).
   IkOptions ik_options;

@@ -86,6 +86,10 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
   for (int f = 0; f < T; ++f) Delta.col(f) = difference(model, q_base.col(f), q_start.col(f), 1.0);
   CorrectionReport rep;
   if (T == 0) return q_base;
+  // A row counts as met within these (the refine bars are 1 mm and 0.5 deg per stance).
+  constexpr double kStanceTolerance_m = 5e-4, kStanceTolerance_rad = 4e-3;
+  constexpr double kLimitTolerance_rad = 1e-3;  // position limits, and speed limits per frame
+  constexpr double kZmpTolerance_m = 1e-3;
   std::vector<std::vector<int>> chain_of(model.links().size());
   auto chain = [&](int link) -> const std::vector<int>& {
     auto& c = chain_of[static_cast<std::size_t>(link)];
@@ -134,10 +138,13 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
   const double mass = m->body_subtreemass[model.root_body()];
   MatX q_all(model.nq(), zmp_on ? T : 0);
   Mat3X com_all(3, zmp_on ? T : 0), L_all(3, zmp_on ? T : 0);
+  // miss_out: the largest miss of a row the correction must meet (stance soles, limits, speed
+  // limits, ZMP) in multiples of its tolerance: <= 1 when all are met.
   auto evaluate = [&](const MatX& D, std::vector<FrameRows>& rows_out, std::vector<std::uint8_t>& used,
-                      std::vector<SpeedRow>& speed_out, std::vector<ZmpRow>& zmp_out) {
+                      std::vector<SpeedRow>& speed_out, std::vector<ZmpRow>& zmp_out, double& miss_out) {
     speed_out.clear();
     zmp_out.clear();
+    miss_out = 0;
     ++rep.evaluations;
     used.assign(static_cast<std::size_t>(nv), 0);
     for (int foot = 0; foot < 2; ++foot)
@@ -165,6 +172,8 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
         const Vec3 p = X * sole.p_L_center;
         const Vec3 e_p = p - t.pose.p_W;
         const Vec3 e_o = rotation_log(X.linear() * o.R_L_sole[k] * t.pose.R_W.transpose());
+        if (t.mode == FootMode::Stance)
+          miss_out = std::max({miss_out, e_p.norm() / kStanceTolerance_m, e_o.norm() / kStanceTolerance_rad});
         mj_jac(m, data.mj(), jp.data(), jr.data(), p.data(), model.links()[static_cast<std::size_t>(sole.link)].body);
         const std::vector<int>& cols = chain(sole.link);
         for (int r = 0; r < 6; ++r) {
@@ -182,6 +191,7 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
         const double v = q[7 + i];
         const double excess = v > o.q_upper[i] ? v - o.q_upper[i] : (v < o.q_lower[i] ? v - o.q_lower[i] : 0.0);
         if (excess == 0) continue;
+        miss_out = std::max(miss_out, std::abs(excess) / kLimitTolerance_rad);
         Row row;
         row.weight = o.limit_weight;
         row.residual = excess;
@@ -226,6 +236,7 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
           const double step = q_base(7 + i, f + 1) + D(6 + i, f + 1) - q_base(7 + i, f) - D(6 + i, f);
           if (std::abs(step) <= lim) continue;
           speed_out.push_back({f, 6 + i, step - std::copysign(lim, step)});
+          miss_out = std::max(miss_out, std::abs(speed_out.back().residual) / kLimitTolerance_rad);
           used[static_cast<std::size_t>(6 + i)] = 1;
         }
     if (zmp_on) {
@@ -258,6 +269,7 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
         }
       }
       if (!zmp_out.empty()) used.assign(static_cast<std::size_t>(nv), 1);
+      for (const ZmpRow& r : zmp_out) miss_out = std::max(miss_out, r.residual / kZmpTolerance_m);
     }
     double cost = 0;
     for (const ZmpRow& r : zmp_out) cost += 0.5 * o.zmp_weight * r.residual * r.residual;
@@ -281,10 +293,14 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
   std::vector<FrameRows> rows_try(static_cast<std::size_t>(T));
   std::vector<SpeedRow> speed, speed_try;
   std::vector<ZmpRow> zmp, zmp_try;
-  double cost = evaluate(Delta, rows, used, speed, zmp);
+  double miss = 0, miss_try = 0;
+  double cost = evaluate(Delta, rows, used, speed, zmp, miss);
   std::vector<MatX> Dblk, Eblk, Fblk;  // the normal equations' blocks (see solve_block_pentadiagonal)
   std::vector<VecX> b;
-  for (int it = 0; it < o.iterations; ++it) {
+  constexpr int kDampedAttempts = 3;      // damped solves after a rejected Gauss–Newton step
+  constexpr double kFirstDamping = 1e-2;  // μ of the first, ×10 for each further one
+  for (int it = 0; it < o.iterations + o.extra_iterations; ++it) {
+    if (it >= o.iterations && miss <= 1) break;  // the extra steps only while a row is missed
     std::vector<int> vars, index(static_cast<std::size_t>(nv), -1);
     for (int d = 0; d < nv; ++d)
       if (used[static_cast<std::size_t>(d)]) {
@@ -298,145 +314,163 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
       sig[a] = sigma[vars[static_cast<std::size_t>(a)]];
     }
 
-    // Normal equations: H = Σ w JᵀJ + ρ + λ ρ DᵀD, g = Σ w Jᵀ r + ρ Δ + λ ρ DᵀD Δ.
-    // The blocks' storage is reused across iterations (tens of MB on a long clip).
-    auto zero_blocks = [n](std::vector<MatX>& blocks, int count) {
-      blocks.resize(static_cast<std::size_t>(std::max(0, count)));
-      for (MatX& B : blocks) B.setZero(n, n);
-    };
-    zero_blocks(Dblk, T);
-    zero_blocks(Eblk, T - 1);
-    zero_blocks(Fblk, T - 2);
-    b.resize(static_cast<std::size_t>(T));
-    for (VecX& v : b) v.setZero(n);
-    auto dd = [&](int f, int g) {  // (DᵀD)(f, g) of the second-difference operator over T frames
-      double s = 0;
-      for (int k = std::max(1, std::max(f, g) - 1); k <= std::min(T - 2, std::min(f, g) + 1); ++k) {
-        const auto coeff = [&](int x) { return x == k ? -2.0 : (std::abs(x - k) == 1 ? 1.0 : 0.0); };
-        s += coeff(f) * coeff(g);
-      }
-      return s;
-    };
-    VecX Df(n);
-    for (int f = 0; f < T; ++f) {
-      MatX& H = Dblk[static_cast<std::size_t>(f)];
-      VecX& g = b[static_cast<std::size_t>(f)];
-      const FrameRows& fr = rows[static_cast<std::size_t>(f)];
-      for (const Row& row : fr.rows) {
-        const double* jac = fr.jac.data() + row.jac;
-        for (std::size_t a = 0; a < row.ncols; ++a) {
-          const int ia = index[static_cast<std::size_t>(row.cols[a])];
-          g[ia] += row.weight * jac[a] * row.residual;
-          for (std::size_t c = 0; c < row.ncols; ++c)
-            H(ia, index[static_cast<std::size_t>(row.cols[c])]) += row.weight * jac[a] * jac[c];
+    // Assembles the normal equations at Δ into Dblk, Eblk, Fblk, b (again for a damped retry:
+    // the solve factorises them in place).
+    auto assemble = [&] {
+      // Normal equations: H = Σ w JᵀJ + ρ + λ ρ DᵀD, g = Σ w Jᵀ r + ρ Δ + λ ρ DᵀD Δ.
+      // The blocks' storage is reused across iterations (tens of MB on a long clip).
+      auto zero_blocks = [n](std::vector<MatX>& blocks, int count) {
+        blocks.resize(static_cast<std::size_t>(std::max(0, count)));
+        for (MatX& B : blocks) B.setZero(n, n);
+      };
+      zero_blocks(Dblk, T);
+      zero_blocks(Eblk, T - 1);
+      zero_blocks(Fblk, T - 2);
+      b.resize(static_cast<std::size_t>(T));
+      for (VecX& v : b) v.setZero(n);
+      auto dd = [&](int f, int g) {  // (DᵀD)(f, g) of the second-difference operator over T frames
+        double s = 0;
+        for (int k = std::max(1, std::max(f, g) - 1); k <= std::min(T - 2, std::min(f, g) + 1); ++k) {
+          const auto coeff = [&](int x) { return x == k ? -2.0 : (std::abs(x - k) == 1 ? 1.0 : 0.0); };
+          s += coeff(f) * coeff(g);
         }
-      }
-      for (Eigen::Index a = 0; a < n; ++a) Df[a] = Delta(vars[static_cast<std::size_t>(a)], f);
-      H.diagonal() += rho;
-      g += rho.cwiseProduct(Df);
-      if (use_metric) {
-        const MatX& M = o.metric[static_cast<std::size_t>(f)];
-        const VecX Mx = M * metric_part(Delta, f);
-        for (Eigen::Index a = 0; a < n; ++a) {
-          const int ka = metric_index[static_cast<std::size_t>(vars[static_cast<std::size_t>(a)])];
-          if (ka < 0) continue;
-          g[a] += Mx[ka];
-          for (Eigen::Index c = 0; c < n; ++c) {
-            const int kc = metric_index[static_cast<std::size_t>(vars[static_cast<std::size_t>(c)])];
-            if (kc >= 0) H(a, c) += M(ka, kc);
+        return s;
+      };
+      VecX Df(n);
+      for (int f = 0; f < T; ++f) {
+        MatX& H = Dblk[static_cast<std::size_t>(f)];
+        VecX& g = b[static_cast<std::size_t>(f)];
+        const FrameRows& fr = rows[static_cast<std::size_t>(f)];
+        for (const Row& row : fr.rows) {
+          const double* jac = fr.jac.data() + row.jac;
+          for (std::size_t a = 0; a < row.ncols; ++a) {
+            const int ia = index[static_cast<std::size_t>(row.cols[a])];
+            g[ia] += row.weight * jac[a] * row.residual;
+            for (std::size_t c = 0; c < row.ncols; ++c)
+              H(ia, index[static_cast<std::size_t>(row.cols[c])]) += row.weight * jac[a] * jac[c];
           }
         }
+        for (Eigen::Index a = 0; a < n; ++a) Df[a] = Delta(vars[static_cast<std::size_t>(a)], f);
+        H.diagonal() += rho;
+        g += rho.cwiseProduct(Df);
+        if (use_metric) {
+          const MatX& M = o.metric[static_cast<std::size_t>(f)];
+          const VecX Mx = M * metric_part(Delta, f);
+          for (Eigen::Index a = 0; a < n; ++a) {
+            const int ka = metric_index[static_cast<std::size_t>(vars[static_cast<std::size_t>(a)])];
+            if (ka < 0) continue;
+            g[a] += Mx[ka];
+            for (Eigen::Index c = 0; c < n; ++c) {
+              const int kc = metric_index[static_cast<std::size_t>(vars[static_cast<std::size_t>(c)])];
+              if (kc >= 0) H(a, c) += M(ka, kc);
+            }
+          }
+        }
+        if (o.lambda > 0) {
+          H.diagonal() += o.lambda * dd(f, f) * sig;
+          VecX smooth = VecX::Zero(n);
+          for (int h = std::max(0, f - 2); h <= std::min(T - 1, f + 2); ++h) {
+            const double c = dd(f, h);
+            if (c == 0) continue;
+            for (Eigen::Index a = 0; a < n; ++a) smooth[a] += c * Delta(vars[static_cast<std::size_t>(a)], h);
+          }
+          g += o.lambda * sig.cwiseProduct(smooth);
+        }
+        g = -g;
       }
       if (o.lambda > 0) {
-        H.diagonal() += o.lambda * dd(f, f) * sig;
-        VecX smooth = VecX::Zero(n);
-        for (int h = std::max(0, f - 2); h <= std::min(T - 1, f + 2); ++h) {
-          const double c = dd(f, h);
-          if (c == 0) continue;
-          for (Eigen::Index a = 0; a < n; ++a) smooth[a] += c * Delta(vars[static_cast<std::size_t>(a)], h);
-        }
-        g += o.lambda * sig.cwiseProduct(smooth);
+        for (int f = 0; f + 1 < T; ++f) Eblk[static_cast<std::size_t>(f)].diagonal() = o.lambda * dd(f + 1, f) * sig;
+        for (int f = 0; f + 2 < T; ++f) Fblk[static_cast<std::size_t>(f)].diagonal() = o.lambda * dd(f + 2, f) * sig;
       }
-      g = -g;
-    }
-    if (o.lambda > 0) {
-      for (int f = 0; f + 1 < T; ++f) Eblk[static_cast<std::size_t>(f)].diagonal() = o.lambda * dd(f + 1, f) * sig;
-      for (int f = 0; f + 2 < T; ++f) Fblk[static_cast<std::size_t>(f)].diagonal() = o.lambda * dd(f + 2, f) * sig;
-    }
-    // Speed rows: residual r = (Δ_f+1 − Δ_f) + ... beyond the limit, Jacobian (−1, +1).
-    for (const SpeedRow& r : speed) {
-      const int a = index[static_cast<std::size_t>(r.dof)];
-      const auto f = static_cast<std::size_t>(r.frame);
-      Dblk[f](a, a) += o.limit_weight;
-      Dblk[f + 1](a, a) += o.limit_weight;
-      Eblk[f](a, a) -= o.limit_weight;
-      b[f][a] += o.limit_weight * r.residual;
-      b[f + 1][a] -= o.limit_weight * r.residual;
-    }
-    // ZMP rows: Jacobian blocks G_k over all coordinates for k = f − 1, f, f + 1 (see the header);
-    // every coordinate is a variable once a ZMP row exists, so vars is the identity then.
-    if (!zmp.empty()) {
-      std::vector<MatX> J_com(static_cast<std::size_t>(T)), A_L(static_cast<std::size_t>(T));
-      auto jacobians_at = [&](int k) {
-        if (J_com[static_cast<std::size_t>(k)].size() > 0) return;
-        update_kinematics(model, data, integrate(model, q_base.col(k), Delta.col(k), 1.0));
-        J_com[static_cast<std::size_t>(k)] = com_jacobian(model, data).topRows<2>();
-        A_L[static_cast<std::size_t>(k)] = centroidal_angular_matrix(model, data).topRows<2>();
-      };
-      const double f2 = o.fps * o.fps;
-      std::array<VecX, 3> G;
-      for (const ZmpRow& z : zmp) {
-        const int f = z.frame;
-        if (z.at_rest) {
-          jacobians_at(f);
-          const VecX nJ = J_com[static_cast<std::size_t>(f)].transpose() * z.n;
-          b[static_cast<std::size_t>(f)].noalias() -= o.zmp_weight * z.residual * nJ;
-          Dblk[static_cast<std::size_t>(f)].noalias() += o.zmp_weight * nJ * nJ.transpose();
-          continue;
-        }
-        for (int k = f - 1; k <= f + 1; ++k) jacobians_at(k);
-        const double a = z.com_height_m / z.vertical_force * f2, l = f2 / (mass * z.vertical_force);
-        const Vec2 s_n(-z.n.y(), z.n.x());  // nᵀ S, S L̇ = (L̇_y, −L̇_x)
-        const VecX sA = A_L[static_cast<std::size_t>(f)].transpose() * s_n;
-        for (int k = 0; k < 3; ++k) {
-          const VecX nJ = J_com[static_cast<std::size_t>(f - 1 + k)].transpose() * z.n;
-          G[static_cast<std::size_t>(k)] = k == 1 ? VecX((1 + 2 * a) * nJ + 2 * l * sA) : VecX(-a * nJ - l * sA);
-        }
-        const double w = o.zmp_weight;
-        for (int k1 = 0; k1 < 3; ++k1) {
-          const auto fk1 = static_cast<std::size_t>(f - 1 + k1);
-          b[fk1].noalias() -= w * z.residual * G[static_cast<std::size_t>(k1)];
-          for (int k2 = 0; k2 <= k1; ++k2) {
-            const auto fk2 = static_cast<std::size_t>(f - 1 + k2);
-            MatX& block = k1 == k2 ? Dblk[fk1] : (k1 == k2 + 1 ? Eblk[fk2] : Fblk[fk2]);
-            block.noalias() += w * G[static_cast<std::size_t>(k1)] * G[static_cast<std::size_t>(k2)].transpose();
+      // Speed rows: residual r = (Δ_f+1 − Δ_f) + ... beyond the limit, Jacobian (−1, +1).
+      for (const SpeedRow& r : speed) {
+        const int a = index[static_cast<std::size_t>(r.dof)];
+        const auto f = static_cast<std::size_t>(r.frame);
+        Dblk[f](a, a) += o.limit_weight;
+        Dblk[f + 1](a, a) += o.limit_weight;
+        Eblk[f](a, a) -= o.limit_weight;
+        b[f][a] += o.limit_weight * r.residual;
+        b[f + 1][a] -= o.limit_weight * r.residual;
+      }
+      // ZMP rows: Jacobian blocks G_k over all coordinates for k = f − 1, f, f + 1 (see the header);
+      // every coordinate is a variable once a ZMP row exists, so vars is the identity then.
+      if (!zmp.empty()) {
+        std::vector<MatX> J_com(static_cast<std::size_t>(T)), A_L(static_cast<std::size_t>(T));
+        auto jacobians_at = [&](int k) {
+          if (J_com[static_cast<std::size_t>(k)].size() > 0) return;
+          update_kinematics(model, data, integrate(model, q_base.col(k), Delta.col(k), 1.0));
+          J_com[static_cast<std::size_t>(k)] = com_jacobian(model, data).topRows<2>();
+          A_L[static_cast<std::size_t>(k)] = centroidal_angular_matrix(model, data).topRows<2>();
+        };
+        const double f2 = o.fps * o.fps;
+        std::array<VecX, 3> G;
+        for (const ZmpRow& z : zmp) {
+          const int f = z.frame;
+          if (z.at_rest) {
+            jacobians_at(f);
+            const VecX nJ = J_com[static_cast<std::size_t>(f)].transpose() * z.n;
+            b[static_cast<std::size_t>(f)].noalias() -= o.zmp_weight * z.residual * nJ;
+            Dblk[static_cast<std::size_t>(f)].noalias() += o.zmp_weight * nJ * nJ.transpose();
+            continue;
+          }
+          for (int k = f - 1; k <= f + 1; ++k) jacobians_at(k);
+          const double a = z.com_height_m / z.vertical_force * f2, l = f2 / (mass * z.vertical_force);
+          const Vec2 s_n(-z.n.y(), z.n.x());  // nᵀ S, S L̇ = (L̇_y, −L̇_x)
+          const VecX sA = A_L[static_cast<std::size_t>(f)].transpose() * s_n;
+          for (int k = 0; k < 3; ++k) {
+            const VecX nJ = J_com[static_cast<std::size_t>(f - 1 + k)].transpose() * z.n;
+            G[static_cast<std::size_t>(k)] = k == 1 ? VecX((1 + 2 * a) * nJ + 2 * l * sA) : VecX(-a * nJ - l * sA);
+          }
+          const double w = o.zmp_weight;
+          for (int k1 = 0; k1 < 3; ++k1) {
+            const auto fk1 = static_cast<std::size_t>(f - 1 + k1);
+            b[fk1].noalias() -= w * z.residual * G[static_cast<std::size_t>(k1)];
+            for (int k2 = 0; k2 <= k1; ++k2) {
+              const auto fk2 = static_cast<std::size_t>(f - 1 + k2);
+              MatX& block = k1 == k2 ? Dblk[fk1] : (k1 == k2 + 1 ? Eblk[fk2] : Fblk[fk2]);
+              block.noalias() += w * G[static_cast<std::size_t>(k1)] * G[static_cast<std::size_t>(k2)].transpose();
+            }
           }
         }
       }
-    }
-    if (!solve_block_pentadiagonal(Dblk, Eblk, Fblk, b)) break;
-    // Backtracking on the cost: the one-sided rows change their active set between steps.
+    };
+    assemble();
+    // Backtracking on the cost: the one-sided rows change their active set between steps. Where no
+    // step along the Gauss–Newton direction lowers the cost while a row is still missed (the
+    // linearised rows of a leg at its limits, its speed limits and two stance soles disagree), the
+    // step is damped (Levenberg–Marquardt, H + μ diag H) and tried again rather than the solve
+    // stopping there.
     double alpha = 1, step = 0;
     bool accepted = false;
     MatX Delta_try = Delta;
     const double cost_before = cost;
-    for (int k = 0; k < 5 && !accepted; ++k, alpha *= 0.5) {
-      step = 0;
-      for (int f = 0; f < T; ++f)
-        for (Eigen::Index a = 0; a < n; ++a) {
-          const double d = alpha * b[static_cast<std::size_t>(f)][a];
-          Delta_try(vars[static_cast<std::size_t>(a)], f) = Delta(vars[static_cast<std::size_t>(a)], f) + d;
-          step = std::max(step, std::abs(d));
+    for (int attempt = 0; attempt <= (miss > 1 && o.extra_iterations > 0 ? kDampedAttempts : 0) && !accepted; ++attempt) {
+      if (attempt > 0) {
+        assemble();
+        const double mu = kFirstDamping * std::pow(10.0, attempt - 1);
+        for (MatX& H : Dblk) H.diagonal() *= 1 + mu;
+      }
+      if (!solve_block_pentadiagonal(Dblk, Eblk, Fblk, b)) break;
+      alpha = 1;
+      for (int k = 0; k < (attempt == 0 ? 5 : 2) && !accepted; ++k, alpha *= 0.5) {
+        step = 0;
+        for (int f = 0; f < T; ++f)
+          for (Eigen::Index a = 0; a < n; ++a) {
+            const double d = alpha * b[static_cast<std::size_t>(f)][a];
+            Delta_try(vars[static_cast<std::size_t>(a)], f) = Delta(vars[static_cast<std::size_t>(a)], f) + d;
+            step = std::max(step, std::abs(d));
+          }
+        const double cost_try = evaluate(Delta_try, rows_try, used_try, speed_try, zmp_try, miss_try);
+        if (cost_try < cost) {
+          accepted = true;
+          cost = cost_try;
+          Delta.swap(Delta_try);
+          rows.swap(rows_try);
+          used.swap(used_try);
+          speed.swap(speed_try);
+          zmp.swap(zmp_try);
+          miss = miss_try;
         }
-      const double cost_try = evaluate(Delta_try, rows_try, used_try, speed_try, zmp_try);
-      if (cost_try < cost) {
-        accepted = true;
-        cost = cost_try;
-        Delta.swap(Delta_try);
-        rows.swap(rows_try);
-        used.swap(used_try);
-        speed.swap(speed_try);
-        zmp.swap(zmp_try);
       }
     }
     rep.iterations = it + 1;

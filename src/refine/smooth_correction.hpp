@@ -55,6 +55,11 @@ struct CorrectionOptions {
   std::vector<MatX> metric;     ///< M_f per frame over metric_dofs (empty: none)
   std::array<Mat3, 2> R_L_sole{{Mat3::Identity(), Mat3::Identity()}};
   int iterations = 8;           ///< Gauss–Newton steps at most (it stops earlier once the steps are below 1e-6)
+  /// ... and at most this many more while a stance sole, a limit, a speed limit or a ZMP row is
+  /// still missed beyond its tolerance (0.5 mm, 0.23 deg, 1 mrad, 1 mm). When > 0, a step that no
+  /// backtracking makes cheaper while such a row is missed is retried damped (Levenberg–Marquardt,
+  /// H + μ diag H, μ = 0.01, 0.1, 1) instead of ending the solve. 0: plain Gauss–Newton.
+  int extra_iterations = 0;
   /// ZMP rows: per frame the half-planes the multibody ZMP must satisfy (empty vector: none at that
   /// frame; an empty list: no ZMP rows at all), their weight [1/m²] and the motion's rate [Hz].
   std::vector<std::vector<HalfPlane>> zmp_support;
