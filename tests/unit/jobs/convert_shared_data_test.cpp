@@ -112,15 +112,22 @@ std::string lafan1_take(const std::string& clip) {
   return stem.rfind("lafan1_", 0) == 0 ? stem.substr(7) : std::string();
 }
 
+// A conversion of `clip` in memory (no files written), the default pipeline unless `passes`.
+ConvertRequest in_memory(const std::string& clip, const std::string& passes = "") {
+  ConvertRequest request;
+  request.clip_path = clip;
+  request.passes = passes;
+  request.write_outputs = false;
+  return request;
+}
+
 class ConvertSharedData : public ::testing::TestWithParam<Case> {};
 
 TEST_P(ConvertSharedData, MeetsTheQualityBounds) {
   const Case c = GetParam();
   RT_REQUIRE_SHARED(clip, c.clip);
   RT_REQUIRE_SHARED(robots, "robots");
-  ConvertRequest request;
-  request.clip_path = clip;
-  request.write_outputs = false;
+  ConvertRequest request = in_memory(clip);
   if (std::string(c.clip).find("salsa") != std::string::npos) request.motion.source_fps = 60;  // data README
   const ConvertResult r = run_convert(request, test::shared_robot(c.robot));
   const QualityMetrics& q = r.quality;
@@ -208,10 +215,7 @@ TEST(ConvertSharedDataRegression, H1BandaiDanceFrame1256StaysAboveTheFloor) {
   RT_REQUIRE_SHARED(clip, "bvh/bandai1_dance-short_normal_001.bvh");
   RT_REQUIRE_SHARED(robots, "robots");
   const RobotModel& model = test::shared_robot("h1");
-  ConvertRequest request;
-  request.clip_path = clip;
-  request.write_outputs = false;
-  const ConvertResult r = run_convert(request, model);
+  const ConvertResult r = run_convert(in_memory(clip), model);
   const MatX& q = r.clip.motion.q;  // source rate (30 Hz, as the output)
   ASSERT_GT(q.cols(), 1300);
   RobotData data(model);
@@ -238,10 +242,7 @@ TEST(ConvertSharedDataRegression, H1BandaiDanceFrame1256StaysAboveTheFloor) {
 TEST(ConvertSharedDataRegression, H1CrossoverTouchdownStaysOnOneLegBranch) {
   RT_REQUIRE_SHARED(clip, "bvh/cmu_max_131_01_start_walk_stop.bvh");
   RT_REQUIRE_SHARED(robots, "robots");
-  ConvertRequest request;
-  request.clip_path = clip;
-  request.write_outputs = false;
-  const ConvertResult r = run_convert(request, test::shared_robot("h1"));
+  const ConvertResult r = run_convert(in_memory(clip), test::shared_robot("h1"));
   const QualityMetrics& q = r.quality;
   EXPECT_LT(q.max_velocity_ratio, 1.5) << q.fastest_joint;  // was 7.38 (left_hip_pitch_joint)
   EXPECT_LE(q.velocity_limit_violations, 5);                // was 21 frames x joints
@@ -256,12 +257,11 @@ TEST(ConvertSharedDataRegression, H1CrossoverTouchdownStaysOnOneLegBranch) {
 TEST(ConvertSharedDataRegression, H1HoldIterationsHoldTheCmuWalkStances) {
   RT_REQUIRE_SHARED(clip, "bvh/cmu_max_131_01_start_walk_stop.bvh");
   RT_REQUIRE_SHARED(robots, "robots");
-  ConvertRequest request;
-  request.clip_path = clip;
-  request.write_outputs = false;
-  const QualityMetrics before = run_convert(request, test::shared_robot("h1")).quality;
-  request.passes = "retime,scale,label-contacts,ik,flat-contact,refine{hold_iterations=8,stance_weight=2e6},ground,resample";
-  const QualityMetrics after = run_convert(request, test::shared_robot("h1")).quality;
+  const QualityMetrics before = run_convert(in_memory(clip), test::shared_robot("h1")).quality;
+  const QualityMetrics after =
+      run_convert(in_memory(clip, "retime,scale,label-contacts,ik,flat-contact,refine{hold_iterations=8,stance_weight=2e6},ground,resample"),
+                  test::shared_robot("h1"))
+          .quality;
   EXPECT_GT(before.foot_skating_max_m, 0.002);  // the default's miss, so the test tells the two apart
   EXPECT_LE(after.foot_skating_max_m, 0.001);
   EXPECT_LE(after.heel_skating_max_m, 0.001);
