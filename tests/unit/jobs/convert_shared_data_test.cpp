@@ -251,7 +251,7 @@ TEST(ConvertSharedDataRegression, H1CrossoverTouchdownStaysOnOneLegBranch) {
 }
 
 // refine{hold_iterations} (opt-in): further, damped Gauss-Newton steps while a stance sole is off
-// its anchor. On H1's CMU 131_01 walk, whose stances the default correction leaves up to 2.9 mm and
+// its anchor. On H1's CMU 131_01 walk, whose stances the default correction leaves up to 3.0 mm and
 // 0.8 deg off (hip yaw and ankle at their limits), they hold every stance to the drift, yaw and
 // height bars with no joint above its speed limit; the sole tilt improves but stays above 0.5 deg.
 TEST(ConvertSharedDataRegression, H1HoldIterationsHoldTheCmuWalkStances) {
