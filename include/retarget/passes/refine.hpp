@@ -64,8 +64,8 @@ struct RefineOptions {
   /// stance sole is more than 0.5 mm or 0.23 deg off its anchor or a limit is missed by more than
   /// 1 mrad, a step that fails being retried damped (Levenberg–Marquardt) rather than ending the
   /// solve. On H1, whose five-joint legs run into their hip-yaw and ankle limits, 8 (with
-  /// stance_weight 2e6) holds the walks' stances better; the cost is time, and on the fast dances
-  /// the outcome moves either way (README, refine).
+  /// stance_weight 2e6) holds most walks' stances better; it costs time, and on the dances and
+  /// jumps it holds them worse (README, "Stances on H1").
   int hold_iterations = 0;
   int max_iterations = 30;           ///< projection iterations per frame
   bool landmark_metric = true;       ///< weigh the foot correction by the landmark cost's Gauss–Newton matrix
