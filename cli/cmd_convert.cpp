@@ -103,6 +103,11 @@ void print_summary(const ConvertResult& r, bool verbose) {
                       q.swing_frames_low, kSwingClearance_m, q.frame0_sole_tilt_deg, q.frame0_sole_height_m);
   std::cout << format("  contacts    %d frames without a stance foot (longest %.2f s)\n", q.frames_without_stance,
                       q.longest_flight_s);
+  if (r.clip.lead_in_frames > 0 || r.clip.lead_out_frames > 0)
+    std::cout << format("  lead        standing lead-in %.2f s, lead-out %.2f s added by com-plan (the clip starts or ends "
+                        "moving); the source's first frame is at %.2f s\n",
+                        r.clip.lead_in_frames / r.clip.motion.fps, r.clip.lead_out_frames / r.clip.motion.fps,
+                        r.clip.lead_in_frames / r.clip.motion.fps);
   if (q.zmp_stance_frames > 0)
     std::cout << format("  zmp         %.0f %% of %d stance frames within %.0f cm of the support (%.0f %% inside); single support "
                         "%.0f %% within (%.0f %% inside); worst %.3f m outside at %.2f s\n",

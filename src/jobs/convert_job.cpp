@@ -112,6 +112,11 @@ std::string provenance_json(const ConvertRequest& request, const ConvertResult& 
                  {"up_axis", std::string(1, src.up_axis)},
                  {"dropped_leading_frames", src.dropped_leading_frames},
                  {"floor_height_m", src.floor_height_m}};
+  if (r.clip.lead_in_frames > 0 || r.clip.lead_out_frames > 0) {
+    // com-plan's standing lead-in / lead-out: the source's first frame is at t = lead_in_s.
+    j["lead_in_s"] = r.clip.lead_in_frames / r.clip.motion.fps;
+    j["lead_out_s"] = r.clip.lead_out_frames / r.clip.motion.fps;
+  }
   j["robot_config"] = {{"path", model.config().config_path}, {"sha256", sha256_file(model.config().config_path)}};
   j["urdf_sha256"] = sha256_file(model.config().urdf_path);
   if (std::find(request.formats.begin(), request.formats.end(), ReferenceFormat::Npz) != request.formats.end())

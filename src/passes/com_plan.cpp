@@ -14,6 +14,7 @@
 #include "retarget/model/robot_model.hpp"
 #include "retarget/passes/ik_pass.hpp"
 #include "retarget/passes/stance_support.hpp"
+#include "retarget/pipeline/clip_ends.hpp"
 #include "src/refine/foot_plan.hpp"
 #include "src/refine/signal_smoother.hpp"
 #include "src/refine/smooth_correction.hpp"
@@ -109,6 +110,10 @@ ComPlanPass::ComPlanPass() {
   table_.add("flight_acceleration", options_.plan.flight_acceleration_weight, "plan: weight of |c''|^2 on flight samples");
   table_.add("rest_start", options_.plan.rest_at_start, "plan: COM at rest at the first frame");
   table_.add("rest_end", options_.plan.rest_at_end, "plan: COM at rest at the last frame");
+  table_.add("lead", options_.lead_s, "[s] standing lead-in / lead-out added where the clip starts / ends moving (0: none)",
+             {0, 5, "s"});
+  table_.add("lead_speed", options_.lead_speed_mps, "[m/s] COM speed at an end above which the clip counts as moving there",
+             {0, 10, "m/s"});
   table_.add("smoothing", options_.smoothing_s, "[s] Gaussian low-pass of the pose, swing soles and COM height the IK follows",
              {0, 1, "s"});
   table_.add("swing_smoothing", options_.swing_smoothing_s, "[s] Gaussian low-pass of the swing soles' trajectories (0: as they are)",
@@ -131,12 +136,50 @@ ComPlanPass::ComPlanPass() {
   table_.add("fps", options_.export_fps, "[Hz] the export rate the whole-body stage works at (--fps sets it)", {1, 1000, "Hz"});
 }
 
+namespace {
+
+// Horizontal COM speed [m/s] over the first (`at_end` false) or last 0.1 s of the motion.
+double end_com_speed(const RobotModel& model, RobotData& data, const RobotMotion& motion, bool at_end) {
+  const int T = motion.num_frames();
+  const int n = std::min(T - 1, std::max(1, static_cast<int>(std::lround(0.1 * motion.fps))));
+  if (n < 1) return 0;
+  const int a = at_end ? T - 1 - n : 0, b = a + n;
+  update_kinematics(model, data, motion.q.col(a));
+  const Vec3 c_a = com_position(model, data);
+  update_kinematics(model, data, motion.q.col(b));
+  const Vec3 c_b = com_position(model, data);
+  return (c_b - c_a).head<2>().norm() * motion.fps / n;
+}
+
+}  // namespace
+
 void ComPlanPass::run(Clip& clip, PassContext& ctx) {
   const RobotModel& model = ctx.model();
   RobotData& data = ctx.data();
   RobotMotion& motion = clip.motion;
+  if (motion.num_frames() == 0) throw InputError("--passes", "com-plan needs the robot motion of the ik pass: put ik before com-plan");
+  if (!(options_.lead_s >= 0 && options_.lead_s <= 5)) throw InputError("com-plan{lead}", "must be in [0, 5] s");
+  if (!(options_.lead_speed_mps >= 0)) throw InputError("com-plan{lead_speed}", "must be >= 0 m/s");
+
+  // A clip that starts (ends) moving cannot be planned at rest on its first (last) frame without
+  // bending its first (last) step: a standing lead-in (lead-out) holding that end's pose and
+  // contacts is added, in which the plan starts (stops) the COM. Dropped again below if no stage
+  // of the pass is kept.
+  const RobotMotion motion_in = motion;
+  const ContactSchedule contacts_in = clip.contacts;
+  const LandmarkTargets targets_in = clip.targets;
+  const int lead_in_before = clip.lead_in_frames, lead_out_before = clip.lead_out_frames;
+  std::array<double, 2> end_speed{{0, 0}};
+  std::array<int, 2> lead{{0, 0}};
+  for (int e = 0; e < 2; ++e) {
+    end_speed[static_cast<std::size_t>(e)] = end_com_speed(model, data, motion, e == 1);
+    const bool rest = e == 0 ? options_.plan.rest_at_start : options_.plan.rest_at_end;
+    if (rest && options_.lead_s > 0 && end_speed[static_cast<std::size_t>(e)] > options_.lead_speed_mps)
+      lead[static_cast<std::size_t>(e)] = static_cast<int>(std::lround(options_.lead_s * motion.fps));
+  }
+  hold_clip_ends(clip, lead[0], lead[1]);
+
   const int T = motion.num_frames();
-  if (T == 0) throw InputError("--passes", "com-plan needs the robot motion of the ik pass: put ik before com-plan");
   const double fps = motion.fps, dt = options_.plan.period_s;
   if (!(dt > 0 && dt <= 0.1)) throw InputError("com-plan{period}", "must be in (0, 0.1] s");
   if (!(options_.margin_m >= 0 && options_.margin_m < 0.1)) throw InputError("com-plan{margin}", "must be in [0, 0.1) m");
@@ -312,6 +355,11 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
   ik_options.step_tolerance = 1e-9;  // micrometres: see the header
   ik_options.cost_tolerance = 1e-10;
   const LandmarkIk ik(model, ik_options);
+  // The first frame starts cold (later frames start from their predecessor's correction): with
+  // the same iterations it stopped about 3 mm short of its COM height, a jump into the next frame.
+  IkOptions first_ik_options = ik_options;
+  first_ik_options.max_iterations = 10 * options_.ik_iterations;
+  const LandmarkIk first_ik(model, first_ik_options);
   const bool have_landmarks = clip.targets[Landmark::Pelvis].present && clip.targets[Landmark::Pelvis].p_W.cols() == T;
   const VecX& v_max = model.velocity_limits();
   // Each frame starts from the low-passed pose plus the previous frame's correction.
@@ -349,7 +397,7 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
         b = &bounds;
       }
       VecX q = integrate(model, q_frame, correction, 1.0);
-      ik.solve(data, targets, q_frame, q, com, {}, b);
+      (f == 0 ? first_ik : ik).solve(data, targets, q_frame, q, com, {}, b);
       update_kinematics(model, data, q);
       const double miss = (com_position(model, data) - com.p_W).norm();
       if (miss > options_.follow_tolerance_m) ++out.missed_frames;
@@ -581,6 +629,26 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
                               whole_body.zmp_excess_max, sole_move));
   }
 
+  const bool unchanged = (best_follow.q - motion.q).cwiseAbs().maxCoeff() == 0;
+  if (unchanged && (lead[0] > 0 || lead[1] > 0)) {
+    // Nothing kept: the clip is exported as it came, without the lead frames.
+    motion = motion_in;
+    clip.contacts = contacts_in;
+    clip.targets = targets_in;
+    clip.lead_in_frames = lead_in_before;
+    clip.lead_out_frames = lead_out_before;
+    lead = {{0, 0}};
+    ctx.diagnostics.warn(where, "com-plan: no plan moved the ZMP into the support on more frames with the soles held; the "
+                                "motion is left as it was");
+    ctx.statistics.set("lead-in", 0, "s", "");
+    ctx.statistics.set("lead-out", 0, "s", "");
+    return;
+  }
+  for (int e = 0; e < 2; ++e)
+    ctx.statistics.set(e == 0 ? "lead-in" : "lead-out", lead[static_cast<std::size_t>(e)] / fps, "s",
+                       format("standing frames added %s the clip (its COM %s at %.2f m/s; threshold %.2f m/s)",
+                              e == 0 ? "before" : "after", e == 0 ? "starts" : "ends",
+                              end_speed[static_cast<std::size_t>(e)], options_.lead_speed_mps));
   motion.q = best_follow.q;
   clip.com_replanned_W.resize(3, T);
   clip.com_replanned_W.topRows<2>() = best_com;
@@ -591,7 +659,7 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
   if (rounds_dropping_soles > 0)
     ctx.diagnostics.warn(where, format("com-plan: %d round(s) dropped: following the plan would have moved a held sole by more "
                                        "than %.1f mm", rounds_dropping_soles, 1e3 * options_.foot_tolerance_m));
-  if ((motion.q - q_in).cwiseAbs().maxCoeff() == 0)
+  if (unchanged)
     ctx.diagnostics.warn(where, "com-plan: no plan moved the ZMP into the support on more frames with the soles held; the "
                                 "motion is left as it was");
   if (exported_scored && exported.outside > 0)

@@ -219,11 +219,12 @@ QualityMetrics compute_quality(const RobotModel& model, RobotData& data, const C
   QualityMetrics m = ref.num_frames() > 0 ? foot_metrics(model, data, reference_q(model, ref), ref.fps, ref.contact)
                                           : foot_metrics(model, data, motion.q, motion.fps, clip.contacts.in_contact);
 
-  // Landmark errors at the source rate.
+  // Landmark errors at the source rate, on the source's frames (a standing lead-in or lead-out
+  // has no source sample: its targets are the end's, held).
   std::vector<double> per_frame;
   std::array<std::vector<double>, kLandmarkCount> per_landmark;
   if (clip.targets[Landmark::Pelvis].present)
-    for (int f = 0; f < T; ++f) {
+    for (int f = clip.lead_in_frames; f < T - clip.lead_out_frames; ++f) {
       const double e = frame_landmark_error_m(model, data, clip.targets, motion.q.col(f), f, &per_landmark);
       if (std::isfinite(e)) per_frame.push_back(e);
     }

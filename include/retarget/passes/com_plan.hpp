@@ -40,6 +40,11 @@ namespace rt {
 
 struct ComPlanPassOptions {
   ZmpPlanOptions plan;                 ///< grid, tracking and jerk weights, rest at the ends
+  /// [s] standing lead-in (lead-out) added where the clip starts (ends) moving, so the plan can
+  /// start (stop) the COM at rest without bending the first (last) step (clip_ends.hpp; the summary
+  /// and meta.json `lead_in_s` / `lead_out_s` say so). 0: none, the rested end is the clip's own.
+  double lead_s = 1.0;
+  double lead_speed_mps = 0.1;         ///< [m/s] horizontal COM speed (over 0.1 s) above which an end is moving
   double margin_m = 0.015;             ///< [m] the planned ZMP keeps this far inside each support polygon
   /// Plan (and correct, in the whole-body stage) the ZMP inside each sole's ankle reach
   /// (model/ankle_reach.hpp: where the ankle's effort limit holds the COP under the robot's weight),

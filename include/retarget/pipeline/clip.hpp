@@ -49,6 +49,10 @@ struct Clip {
   Mat3X com_replanned_W;         ///< re-planned COM at the source rate (com-replan), empty if not run
   Eigen::Matrix2Xd cop_predicted_W;  ///< predicted COP at the source rate (com-replan)
   Reference reference;           ///< the output at the export rate (resample)
+  /// Standing frames added before the source's first and after its last frame (source rate;
+  /// com-plan's lead-in and lead-out, clip_ends.hpp): source frame f is robot frame f + lead_in_frames.
+  int lead_in_frames = 0;
+  int lead_out_frames = 0;
   Diagnostics diagnostics;       ///< warnings from all passes
 };
 

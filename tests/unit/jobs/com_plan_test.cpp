@@ -92,8 +92,8 @@ TEST(ComPlanPass, MovesTheZmpOfARealWalkIntoTheSupport) {
 // its first frame's COM 2 cm beyond the G1's stance toe (the moving motion's angular-momentum
 // offset credited to the rested end, the whole sole counted although G1's ankle pitch only holds
 // the COP 10 cm ahead of its axis), and the dynamics check's G1 fell over its toe 0.2 s into the
-// clip. CMU 131_01 ends standing: its last frame too. (PyMO's clip ends mid-stride, its last frame
-// on one foot with the COM on its way to the next step: the pass cannot stop it within the clip.)
+// clip. CMU 131_01 ends standing: its last frame too. PyMO's clip ends mid-stride: the pass adds a
+// standing lead-out (clip_ends.hpp), whose last frame is checked the same way.
 TEST(ComPlanPass, StartsAndEndsOnAComTheAnklesHold) {
   struct Case {
     const char* clip;
@@ -102,7 +102,7 @@ TEST(ComPlanPass, StartsAndEndsOnAComTheAnklesHold) {
   RT_REQUIRE_SHARED(robots, "robots");
   const std::unique_ptr<RobotModel> model = RobotModel::load("g1");
   const std::array<SoleReach, 2> reach = ankle_reach(*model, model->total_mass_kg() * kGravity);
-  for (const Case c : {Case{"bvh/pymo_AV_8Walk_Meredith_HVHA_Rep1.bvh", false}, Case{"bvh/cmu_max_131_01_start_walk_stop.bvh", true}}) {
+  for (const Case c : {Case{"bvh/pymo_AV_8Walk_Meredith_HVHA_Rep1.bvh", true}, Case{"bvh/cmu_max_131_01_start_walk_stop.bvh", true}}) {
     RT_REQUIRE_SHARED(clip, c.clip);
     const ConvertResult planned = convert(*model, clip, true);
     const Reference& ref = planned.clip.reference;
@@ -121,6 +121,65 @@ TEST(ComPlanPass, StartsAndEndsOnAComTheAnklesHold) {
       EXPECT_LT(outside, 0.0) << c.clip << " frame " << f << ": the COM is " << outside << " m beyond what the ankles hold";
     }
   }
+}
+
+// A gait captured mid-stride (BTK's Plug-in Gait trial: the subject walks through the volume, its
+// COM at 1.2 m/s on the first and last frame) cannot be planned at rest on its own ends without
+// bending its first and last steps: 80 % of the stance frames within 1 cm (80 % in single support)
+// and a landmark median of 10.8 cm without the lead, 100 % (100 %) and 3.8 cm with a 1 s standing
+// lead-in and lead-out, in which the plan starts and stops the COM.
+TEST(ComPlanPass, AddsAStandingLeadWhereAGaitStartsAndEndsMidStride) {
+  RT_REQUIRE_SHARED(clip, "c3d/btk_PiG_Motion-FlatFoot-One_vicon_fullbody.c3d");
+  const std::unique_ptr<RobotModel> model = RobotModel::load("g1");
+  const ConvertResult plain = convert(*model, clip, false), planned = convert(*model, clip, true);
+  ConvertRequest request;
+  request.clip_path = clip;
+  request.write_outputs = false;
+  request.passes = "retime,scale,label-contacts,ik,flat-contact,refine,ground,com-plan{lead=0},resample";
+  const ConvertResult no_lead = run_convert(request, *model);
+  EXPECT_EQ(no_lead.clip.lead_in_frames + no_lead.clip.lead_out_frames, 0);
+  EXPECT_EQ(plain.clip.lead_in_frames + plain.clip.lead_out_frames, 0);
+
+  const Clip& c = planned.clip;
+  const int lead = static_cast<int>(std::lround(c.motion.fps));  // 1 s at the source rate
+  EXPECT_EQ(c.lead_in_frames, lead);
+  EXPECT_EQ(c.lead_out_frames, lead);
+  EXPECT_EQ(c.motion.num_frames(), plain.clip.motion.num_frames() + 2 * lead);
+  EXPECT_NEAR(c.reference.num_frames(), plain.clip.reference.num_frames() + 60, 1);
+  const PassRecord* pass = find_pass(planned, "com-plan");
+  ASSERT_NE(pass, nullptr);
+  EXPECT_DOUBLE_EQ(pass->statistics.get("lead-in"), 1.0);
+
+  // The bars, on more frames than without the lead (fractions of different frame counts:
+  // the frames outside are compared).
+  const QualityMetrics &q = planned.quality, &q0 = no_lead.quality;
+  EXPECT_GT(q.zmp_near_fraction, 0.98);
+  EXPECT_GT(q.zmp_single_near_fraction, 0.95);
+  EXPECT_LT((1 - q.zmp_near_fraction) * q.zmp_stance_frames, (1 - q0.zmp_near_fraction) * q0.zmp_stance_frames - 5);
+  EXPECT_LT(q.landmark_error_median_m, plain.quality.landmark_error_median_m + 0.02);
+  EXPECT_LT(q.landmark_error_median_m, q0.landmark_error_median_m);
+  EXPECT_LE(q.foot_skating_max_m, 0.003);
+  EXPECT_EQ(q.position_limit_violations, 0);
+  EXPECT_EQ(q.velocity_limit_violations, 0);
+
+  // The exported reference starts and ends at rest; the source's own first frame moves.
+  const Reference& ref = c.reference;
+  const ReferenceRobotMap map(*model, ref, "test");
+  RobotData data(*model);
+  auto com_at = [&](const Reference& r, const ReferenceRobotMap& m, int f) {
+    update_kinematics(*model, data, m.q(r, f));
+    return Vec3(com_position(*model, data));
+  };
+  const int T = ref.num_frames();
+  const double start_speed = (com_at(ref, map, 1) - com_at(ref, map, 0)).norm() * ref.fps;
+  const double end_speed = (com_at(ref, map, T - 1) - com_at(ref, map, T - 2)).norm() * ref.fps;
+  const ReferenceRobotMap plain_map(*model, plain.clip.reference, "test");
+  const double source_speed = (com_at(plain.clip.reference, plain_map, 1) - com_at(plain.clip.reference, plain_map, 0)).norm() * ref.fps;
+  std::cout << "[ measured ] COM speed: exported first frame " << start_speed << ", last " << end_speed
+            << " m/s; the clip's own first frame " << source_speed << " m/s\n";
+  EXPECT_GT(source_speed, 0.5);
+  EXPECT_LT(start_speed, 0.02);
+  EXPECT_LT(end_speed, 0.02);
 }
 
 // The optical C3D gait (BTK mocap36): 38 % (10 %) before, 98 % (97 %) after.
