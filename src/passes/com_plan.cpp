@@ -174,7 +174,10 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
   for (int e = 0; e < 2; ++e) {
     end_speed[static_cast<std::size_t>(e)] = end_com_speed(model, data, motion, e == 1);
     const bool rest = e == 0 ? options_.plan.rest_at_start : options_.plan.rest_at_end;
-    if (rest && options_.lead_s > 0 && end_speed[static_cast<std::size_t>(e)] > options_.lead_speed_mps)
+    // No lead where that end is airborne: there is nothing to stand on.
+    const std::size_t end = e == 0 ? 0 : static_cast<std::size_t>(motion.num_frames() - 1);
+    const bool standing = clip.contacts.empty() || clip.contacts.in_contact[0][end] || clip.contacts.in_contact[1][end];
+    if (rest && standing && options_.lead_s > 0 && end_speed[static_cast<std::size_t>(e)] > options_.lead_speed_mps)
       lead[static_cast<std::size_t>(e)] = static_cast<int>(std::lround(options_.lead_s * motion.fps));
   }
   hold_clip_ends(clip, lead[0], lead[1]);

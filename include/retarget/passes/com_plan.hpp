@@ -3,6 +3,10 @@
 /// exported motion dynamically feasible on flat ground by planning the whole clip's horizontal COM
 /// over its known footsteps and moving the body onto that plan.
 ///
+///  0. Lead: where the clip starts (ends) moving and standing, a standing lead-in (lead-out) that
+///     holds that end's pose and contact labels is added (`lead`, clip_ends.hpp), so the plan can
+///     start (stop) the COM at rest there rather than inside the clip's first (last) step. The
+///     lead is dropped again if the pass keeps nothing.
 ///  1. Support: per source frame, the hull of the sole rectangles of the feet labelled in contact
 ///     (stance_support.hpp), shrunk by `margin`; no constraint on flight frames.
 ///  2. Plan (zmp_plan.hpp): on a `period` grid, the COM closest to the retargeted COM (with a jerk
@@ -40,9 +44,10 @@ namespace rt {
 
 struct ComPlanPassOptions {
   ZmpPlanOptions plan;                 ///< grid, tracking and jerk weights, rest at the ends
-  /// [s] standing lead-in (lead-out) added where the clip starts (ends) moving, so the plan can
-  /// start (stop) the COM at rest without bending the first (last) step (clip_ends.hpp; the summary
-  /// and meta.json `lead_in_s` / `lead_out_s` say so). 0: none, the rested end is the clip's own.
+  /// [s] standing lead-in (lead-out) added where the clip starts (ends) moving with a foot down, so
+  /// the plan can start (stop) the COM at rest without bending the first (last) step (clip_ends.hpp;
+  /// the summary and meta.json `lead_in_s` / `lead_out_s` say so). It stands on the feet that end
+  /// stands on. 0: none, the rested end is the clip's own.
   double lead_s = 1.0;
   double lead_speed_mps = 0.1;         ///< [m/s] horizontal COM speed (over 0.1 s) above which an end is moving
   double margin_m = 0.015;             ///< [m] the planned ZMP keeps this far inside each support polygon
