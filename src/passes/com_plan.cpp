@@ -633,30 +633,30 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
   }
 
   const bool unchanged = (best_follow.q - motion.q).cwiseAbs().maxCoeff() == 0;
-  if (unchanged && (lead[0] > 0 || lead[1] > 0)) {
-    // Nothing kept: the clip is exported as it came, without the lead frames.
+  // Nothing kept: the clip is exported as it came, without the lead frames (the balance reference
+  // is then the retargeted COM and ZMP over the clip's own frames).
+  const bool drop_lead = unchanged && (lead[0] > 0 || lead[1] > 0);
+  const int first = drop_lead ? lead[0] : 0, kept = drop_lead ? T - lead[0] - lead[1] : T;
+  if (drop_lead) {
     motion = motion_in;
     clip.contacts = contacts_in;
     clip.targets = targets_in;
     clip.lead_in_frames = lead_in_before;
     clip.lead_out_frames = lead_out_before;
     lead = {{0, 0}};
-    ctx.diagnostics.warn(where, "com-plan: no plan moved the ZMP into the support on more frames with the soles held; the "
-                                "motion is left as it was");
-    ctx.statistics.set("lead-in", 0, "s", "");
-    ctx.statistics.set("lead-out", 0, "s", "");
-    return;
+  } else {
+    motion.q = best_follow.q;
   }
   for (int e = 0; e < 2; ++e)
     ctx.statistics.set(e == 0 ? "lead-in" : "lead-out", lead[static_cast<std::size_t>(e)] / fps, "s",
-                       format("standing frames added %s the clip (its COM %s at %.2f m/s; threshold %.2f m/s)",
+                       format("standing frames added %s the clip (its COM %s at %.2f m/s; threshold %.2f m/s)%s",
                               e == 0 ? "before" : "after", e == 0 ? "starts" : "ends",
-                              end_speed[static_cast<std::size_t>(e)], options_.lead_speed_mps));
-  motion.q = best_follow.q;
-  clip.com_replanned_W.resize(3, T);
-  clip.com_replanned_W.topRows<2>() = best_com;
-  clip.com_replanned_W.row(2) = com_z.transpose();
-  clip.cop_predicted_W = best_zmp;
+                              end_speed[static_cast<std::size_t>(e)], options_.lead_speed_mps,
+                              drop_lead ? "; removed again: the pass kept nothing" : ""));
+  clip.com_replanned_W.resize(3, kept);
+  clip.com_replanned_W.topRows<2>() = best_com.middleCols(first, kept);
+  clip.com_replanned_W.row(2) = com_z.segment(first, kept).transpose();
+  clip.cop_predicted_W = best_zmp.middleCols(first, kept);
 
   if (!qp_trouble.empty()) ctx.diagnostics.warn(where, "com-plan: the ZMP plan did not converge: " + qp_trouble);
   if (rounds_dropping_soles > 0)

@@ -182,6 +182,30 @@ TEST(ComPlanPass, AddsAStandingLeadWhereAGaitStartsAndEndsMidStride) {
   EXPECT_LT(end_speed, 0.02);
 }
 
+// A pass that keeps nothing (here: no round and no whole-body stage) exports the clip as it came:
+// the lead frames go again, and the balance reference covers the clip's own frames.
+TEST(ComPlanPass, RemovesTheLeadWhenItKeepsNothing) {
+  RT_REQUIRE_SHARED(clip, "c3d/btk_PiG_Motion-FlatFoot-One_vicon_fullbody.c3d");
+  const std::unique_ptr<RobotModel> model = RobotModel::load("g1");
+  const ConvertResult plain = convert(*model, clip, false);
+  ConvertRequest request;
+  request.clip_path = clip;
+  request.write_outputs = false;
+  request.passes = "retime,scale,label-contacts,ik,flat-contact,refine,ground,com-plan{iterations=0,whole_body_iterations=0},resample";
+  const ConvertResult idle = run_convert(request, *model);
+  EXPECT_EQ(idle.clip.lead_in_frames + idle.clip.lead_out_frames, 0);
+  EXPECT_EQ(idle.clip.motion.q, plain.clip.motion.q);
+  EXPECT_EQ(idle.clip.contacts.in_contact, plain.clip.contacts.in_contact);
+  const Reference& ref = idle.clip.reference;
+  EXPECT_EQ(ref.num_frames(), plain.clip.reference.num_frames());
+  EXPECT_EQ(ref.com_W.cols(), ref.num_frames());
+  EXPECT_EQ(ref.cop_W.cols(), ref.num_frames());
+  const PassRecord* pass = find_pass(idle, "com-plan");
+  ASSERT_NE(pass, nullptr);
+  EXPECT_EQ(pass->statistics.get("lead-in", -1), 0);
+  EXPECT_EQ(pass->statistics.get("lead-out", -1), 0);
+}
+
 // The optical C3D gait (BTK mocap36): 38 % (10 %) before, 98 % (97 %) after.
 TEST(ComPlanPass, MakesAnOpticalGaitNearlyFeasible) {
   RT_REQUIRE_SHARED(clip, "c3d/btk_mocap36_optitrack_fullbody.c3d");
