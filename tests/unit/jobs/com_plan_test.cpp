@@ -29,6 +29,15 @@ ConvertResult convert(const RobotModel& model, const std::string& clip, bool com
   return run_convert(request, model);
 }
 
+// The default pipeline with com-plan before resample, given options (`com-plan{<options>}`).
+ConvertResult convert_with_com_plan(const RobotModel& model, const std::string& clip, const std::string& options) {
+  ConvertRequest request;
+  request.clip_path = clip;
+  request.write_outputs = false;
+  request.passes = "retime,scale,label-contacts,ik,flat-contact,refine,ground,com-plan{" + options + "},resample";
+  return run_convert(request, model);
+}
+
 const PassRecord* find_pass(const ConvertResult& r, const std::string& name) {
   for (const PassRecord& p : r.passes)
     if (p.name == name) return &p;
@@ -132,11 +141,7 @@ TEST(ComPlanPass, AddsAStandingLeadWhereAGaitStartsAndEndsMidStride) {
   RT_REQUIRE_SHARED(clip, "c3d/btk_PiG_Motion-FlatFoot-One_vicon_fullbody.c3d");
   const std::unique_ptr<RobotModel> model = RobotModel::load("g1");
   const ConvertResult plain = convert(*model, clip, false), planned = convert(*model, clip, true);
-  ConvertRequest request;
-  request.clip_path = clip;
-  request.write_outputs = false;
-  request.passes = "retime,scale,label-contacts,ik,flat-contact,refine,ground,com-plan{lead=0},resample";
-  const ConvertResult no_lead = run_convert(request, *model);
+  const ConvertResult no_lead = convert_with_com_plan(*model, clip, "lead=0");
   EXPECT_EQ(no_lead.clip.lead_in_frames + no_lead.clip.lead_out_frames, 0);
   EXPECT_EQ(plain.clip.lead_in_frames + plain.clip.lead_out_frames, 0);
 
@@ -188,11 +193,7 @@ TEST(ComPlanPass, RemovesTheLeadWhenItKeepsNothing) {
   RT_REQUIRE_SHARED(clip, "c3d/btk_PiG_Motion-FlatFoot-One_vicon_fullbody.c3d");
   const std::unique_ptr<RobotModel> model = RobotModel::load("g1");
   const ConvertResult plain = convert(*model, clip, false);
-  ConvertRequest request;
-  request.clip_path = clip;
-  request.write_outputs = false;
-  request.passes = "retime,scale,label-contacts,ik,flat-contact,refine,ground,com-plan{iterations=0,whole_body_iterations=0},resample";
-  const ConvertResult idle = run_convert(request, *model);
+  const ConvertResult idle = convert_with_com_plan(*model, clip, "iterations=0,whole_body_iterations=0");
   EXPECT_EQ(idle.clip.lead_in_frames + idle.clip.lead_out_frames, 0);
   EXPECT_EQ(idle.clip.motion.q, plain.clip.motion.q);
   EXPECT_EQ(idle.clip.contacts.in_contact, plain.clip.contacts.in_contact);
