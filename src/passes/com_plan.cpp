@@ -165,10 +165,6 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
   // bending its first (last) step: a standing lead-in (lead-out) holding that end's pose and
   // contacts is added, in which the plan starts (stops) the COM. Dropped again below if no stage
   // of the pass is kept.
-  const RobotMotion motion_in = motion;
-  const ContactSchedule contacts_in = clip.contacts;
-  const LandmarkTargets targets_in = clip.targets;
-  const int lead_in_before = clip.lead_in_frames, lead_out_before = clip.lead_out_frames;
   std::array<double, 2> end_speed{{0, 0}};
   std::array<int, 2> lead{{0, 0}};
   for (int e = 0; e < 2; ++e) {
@@ -638,11 +634,7 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
   const bool drop_lead = unchanged && (lead[0] > 0 || lead[1] > 0);
   const int first = drop_lead ? lead[0] : 0, kept = drop_lead ? T - lead[0] - lead[1] : T;
   if (drop_lead) {
-    motion = motion_in;
-    clip.contacts = contacts_in;
-    clip.targets = targets_in;
-    clip.lead_in_frames = lead_in_before;
-    clip.lead_out_frames = lead_out_before;
+    drop_clip_ends(clip, lead[0], lead[1]);  // the motion is the held one: this restores it exactly
     lead = {{0, 0}};
   } else {
     motion.q = best_follow.q;

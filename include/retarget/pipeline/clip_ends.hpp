@@ -14,4 +14,9 @@ namespace rt {
 /// predicted COP, and adds them to Clip::lead_in_frames / lead_out_frames.
 void hold_clip_ends(Clip& clip, int before, int after);
 
+/// The inverse: removes `before` frames at the start and `after` at the end of the same arrays and
+/// subtracts them from Clip::lead_in_frames / lead_out_frames (a pass that added a lead and kept
+/// nothing).
+void drop_clip_ends(Clip& clip, int before, int after);
+
 }  // namespace rt
