@@ -115,10 +115,18 @@ IkResult LandmarkIk::solve(RobotData& data, const std::vector<IkTarget>& targets
   MatXr jp(3, nv), jr(3, nv);
   std::vector<FloorPenalty> penalties;
 
+  // The configuration whose kinematics `data` holds: the solver evaluates an accepted trial point a
+  // second time, with derivatives, and the kinematics are most of an evaluation's cost.
+  VecX at;
+  auto kinematics_at = [&](const VecX& x) {
+    if (at.size() == x.size() && at == x) return;
+    update_kinematics(model, data, x);
+    at = x;
+  };
   LeastSquaresProblem problem;
   problem.tangent_size = nv;
   problem.evaluate = [&](const VecX& x, MatX* H, VecX* g) {
-    update_kinematics(model, data, x);
+    kinematics_at(x);
     if (H) {
       H->setZero(nv, nv);
       g->setZero(nv);
@@ -191,7 +199,7 @@ IkResult LandmarkIk::solve(RobotData& data, const std::vector<IkTarget>& targets
   result.solver = solve_bounded_lm(problem, q, lm);
 
   // Report position errors at the solution.
-  update_kinematics(model, data, q);
+  kinematics_at(q);
   double weighted = 0, weights = 0;
   for (std::size_t i = 0; i < targets.size(); ++i) {
     const IkTarget& t = targets[i];
