@@ -1,6 +1,7 @@
 #include "retarget/model/centroidal.hpp"
 
 #include <algorithm>
+#include <vector>
 
 #include <mujoco/mujoco.h>
 
@@ -28,25 +29,37 @@ CentroidalMomentum centroidal_momentum(const RobotModel& model, RobotData& data,
   return out;
 }
 
-MatX centroidal_angular_matrix(const RobotModel& model, const RobotData& data) {
+Matrix6X centroidal_momentum_matrix(const RobotModel& model, const RobotData& data) {
   const mjModel* m = model.mj();
-  // mj_jacBodyCom only uses mjData's scratch stack: the cached kinematics are not modified.
-  mjData* d = const_cast<mjData*>(data.mj());
-  const int nv = m->nv, root = model.root_body();
-  const Vec3 c = Eigen::Map<const Vec3>(d->subtree_com + 3 * root);
-  MatXr jp(3, nv), jr(3, nv);
-  MatX A = MatX::Zero(3, nv);
-  for (int b = 1; b < m->nbody; ++b) {
-    if (!(m->body_mass[b] > 0) || m->body_rootid[b] != m->body_rootid[root]) continue;
-    mj_jacBodyCom(m, d, jp.data(), jr.data(), b);
-    const Vec3 r = Eigen::Map<const Vec3>(d->xipos + 3 * b) - c;
-    Mat3 skew;
-    skew << 0, -r.z(), r.y(), r.z(), 0, -r.x(), -r.y(), r.x(), 0;
-    const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> R(d->ximat + 9 * b);
-    const Vec3 I(m->body_inertia[3 * b], m->body_inertia[3 * b + 1], m->body_inertia[3 * b + 2]);
-    A.noalias() += m->body_mass[b] * skew * jp + (R * I.asDiagonal() * R.transpose()) * jr;
+  const mjData* d = data.mj();
+  const int nb = m->nbody, tree = m->body_rootid[model.root_body()];
+  // Composite inertias of the subtrees: MuJoCo's com-based inertias are all about the tree's COM,
+  // so a subtree's is the plain sum of its bodies' (children have larger indices than parents).
+  std::vector<double> crb(static_cast<std::size_t>(10 * nb), 0.0);
+  for (int b = 1; b < nb; ++b)
+    if (m->body_rootid[b] == tree) std::copy(d->cinert + 10 * b, d->cinert + 10 * b + 10, crb.begin() + 10 * b);
+  for (int b = nb - 1; b > tree; --b)
+    if (m->body_rootid[b] == tree)
+      for (int k = 0; k < 10; ++k) crb[static_cast<std::size_t>(10 * m->body_parentid[b] + k)] += crb[static_cast<std::size_t>(10 * b + k)];
+  Matrix6X A = Matrix6X::Zero(6, m->nv);
+  for (int j = 0; j < m->nv; ++j) {
+    const int b = m->dof_bodyid[j];
+    if (m->body_rootid[b] != tree) continue;
+    // Spatial inertia (I about the origin: xx yy zz xy xz yz; h = m (c_b − o); m) times the
+    // motion axis (ω; v at the origin): angular I ω + h × v, linear m v + ω × h.
+    const double* I = crb.data() + 10 * b;
+    const double* s = d->cdof + 6 * j;
+    const Vec3 w(s[0], s[1], s[2]), v(s[3], s[4], s[5]), h(I[6], I[7], I[8]);
+    Mat3 Io;
+    Io << I[0], I[3], I[4], I[3], I[1], I[5], I[4], I[5], I[2];
+    A.col(j).head<3>() = Io * w + h.cross(v);
+    A.col(j).tail<3>() = I[9] * v + w.cross(h);
   }
   return A;
+}
+
+MatX centroidal_angular_matrix(const RobotModel& model, const RobotData& data) {
+  return centroidal_momentum_matrix(model, data).topRows<3>();
 }
 
 MultibodyZmp multibody_zmp(const RobotModel& model, RobotData& data, const MatX& q, double fps) {

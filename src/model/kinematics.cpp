@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "retarget/core/error.hpp"
+#include "retarget/model/centroidal.hpp"
 
 namespace rt {
 
@@ -119,10 +120,9 @@ Vec3 com_position(const RobotModel& model, const RobotData& data) {
 }
 
 MatX com_jacobian(const RobotModel& model, const RobotData& data) {
-  MatXr jp(3, model.nv());
-  // mj_jacSubtreeCom only uses mjData's scratch stack: the cached results are not modified.
-  mj_jacSubtreeCom(model.mj(), const_cast<mjData*>(data.mj()), jp.data(), model.root_body());
-  return jp;
+  // The linear rows of the centroidal momentum matrix over the mass: one pass over the bodies and
+  // dofs, where mj_jacSubtreeCom takes a body Jacobian per body.
+  return centroidal_momentum_matrix(model, data).bottomRows<3>() / model.mj()->body_subtreemass[model.root_body()];
 }
 
 MatX mass_matrix(const RobotModel& model, const RobotData& data) {

@@ -19,6 +19,7 @@ using Mat4 = Eigen::Matrix4d;
 using Mat6 = Eigen::Matrix<double, 6, 6>;
 using MatX = Eigen::MatrixXd;
 using Mat3X = Eigen::Matrix3Xd;
+using Matrix6X = Eigen::Matrix<double, 6, Eigen::Dynamic>;
 /// Row-major dynamic matrix: the layout MuJoCo uses for Jacobians and the mass matrix.
 using MatXr = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 using Quat = Eigen::Quaterniond;

@@ -26,9 +26,15 @@ struct CentroidalMomentum {
 /// Centroidal momentum at (q, v) (mj_comVel + mj_subtreeVel on the root body). Updates `data`.
 CentroidalMomentum centroidal_momentum(const RobotModel& model, RobotData& data, const VecXCRef& q, const VecXCRef& v);
 
-/// 3 x nv centroidal angular momentum matrix A_L(q): L = A_L v, the angular momentum about the COM
-/// (world axes) of the generalised velocity v, summed over the bodies: m_b (x_b − c) × J_b + I_b,W J_ω,b
-/// (J_b, J_ω,b the Jacobians of body b's centre of mass and rotation). Needs update_kinematics at q.
+/// 6 x nv centroidal momentum matrix A(q) (Orin and Goswami): (L; m ċ) = A v, the angular
+/// momentum about the COM and the linear momentum (world axes) of the generalised velocity v.
+/// Column j is the momentum of the subtree dof j moves at unit speed: that subtree's composite
+/// inertia times j's motion axis (MuJoCo's com-based cinert and cdof), O(bodies + dofs). Needs
+/// update_kinematics at q.
+Matrix6X centroidal_momentum_matrix(const RobotModel& model, const RobotData& data);
+
+/// 3 x nv centroidal angular momentum matrix A_L(q): the angular rows of the above, L = A_L v (the
+/// sum over the bodies of m_b (x_b − c) × J_b + I_b,W J_ω,b). Needs update_kinematics at q.
 MatX centroidal_angular_matrix(const RobotModel& model, const RobotData& data);
 
 /// Multibody ZMP of a sampled motion: per frame, COM and ZMP from finite differences of the

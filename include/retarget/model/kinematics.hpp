@@ -43,7 +43,7 @@ MatX link_jacobian(const RobotModel& model, const RobotData& data, int link, con
 /// Whole-body centre of mass [m] in W.
 Vec3 com_position(const RobotModel& model, const RobotData& data);
 
-/// 3 x nv Jacobian of the whole-body COM (mj_jacSubtreeCom on the root body).
+/// 3 x nv Jacobian of the whole-body COM (the centroidal momentum matrix's linear rows over the mass).
 MatX com_jacobian(const RobotModel& model, const RobotData& data);
 
 /// nv x nv joint-space mass matrix M(q) (after update_dynamics).

@@ -4,6 +4,7 @@
 #include "retarget/model/centroidal.hpp"
 
 #include <gtest/gtest.h>
+#include <mujoco/mujoco.h>
 
 #include <cmath>
 
@@ -86,6 +87,14 @@ TEST(Centroidal, AngularMatrixTimesVelocityIsTheAngularMomentum) {
   ASSERT_EQ(A.cols(), model.nv());
   EXPECT_LT((A * v - c.angular_com_W).norm(), 1e-9 * std::max(1.0, c.angular_com_W.norm()))
       << (A * v).transpose() << " vs " << c.angular_com_W.transpose();
+  // The linear rows: the linear momentum, and over the mass the COM Jacobian of MuJoCo's own
+  // mj_jacSubtreeCom (one body Jacobian per body).
+  const Matrix6X A6 = centroidal_momentum_matrix(model, data);
+  EXPECT_LT((A6.topRows<3>() - A).norm(), 1e-12);
+  EXPECT_LT((A6.bottomRows<3>() * v - c.linear_W).norm(), 1e-9 * std::max(1.0, c.linear_W.norm()));
+  MatXr J(3, model.nv());
+  mj_jacSubtreeCom(model.mj(), data.mj(), J.data(), model.root_body());
+  EXPECT_LT((com_jacobian(model, data) - MatX(J)).cwiseAbs().maxCoeff(), 1e-12);
 }
 
 TEST(Centroidal, StandingStillHasItsZmpUnderTheCom) {
