@@ -6,44 +6,16 @@
 #include "retarget/core/error.hpp"
 #include "retarget/core/limits.hpp"
 #include "retarget/model/robot_model.hpp"
+#include "retarget/pipeline/clip_rate.hpp"
 
 namespace rt {
-
-namespace {
-
-// A stance run of the source that no export frame samples (shorter than an export frame, or after
-// the last one: a touchdown at the clip's last source frame) is kept on the export frame nearest
-// to it, so that the exported schedule has every touchdown the source has.
-void keep_unsampled_stances(const std::vector<std::uint8_t>& contact_in, const std::vector<int>& nearest, double fps_in,
-                            double fps_out, std::vector<std::uint8_t>& contact_out) {
-  const int T_in = static_cast<int>(contact_in.size()), T_out = static_cast<int>(contact_out.size());
-  std::vector<std::uint8_t> sampled(static_cast<std::size_t>(T_in), 0);
-  for (int i : nearest) sampled[static_cast<std::size_t>(i)] = 1;
-  for (int b = 0; b < T_in;) {
-    if (!contact_in[static_cast<std::size_t>(b)]) {
-      ++b;
-      continue;
-    }
-    int e = b;
-    bool seen = false;
-    for (; e < T_in && contact_in[static_cast<std::size_t>(e)]; ++e) seen = seen || sampled[static_cast<std::size_t>(e)];
-    if (!seen) {
-      const double t_mid = 0.5 * (b + e - 1) / fps_in;
-      contact_out[static_cast<std::size_t>(std::clamp(static_cast<int>(std::lround(t_mid * fps_out)), 0, T_out - 1))] = 1;
-    }
-    b = e;
-  }
-}
-
-}  // namespace
 
 Reference resample_motion(const RobotModel& model, const RobotMotion& motion, const ContactSchedule& contacts,
                           const Mat3X& com_W, const Eigen::Matrix2Xd& cop_W, double fps_out) {
   check_frame_rate(fps_out, "--fps", "the output frame rate", kMinFrameRate_hz, kMaxOutputFrameRate_hz);
   const int T = motion.num_frames();
   RT_DEMAND(T > 0 && motion.fps > 0, "resample: empty motion");
-  const double duration = (T - 1) / motion.fps;
-  const int T_out = static_cast<int>(std::floor(duration * fps_out + 1e-9)) + 1;
+  const int T_out = grid_frames(T, motion.fps, fps_out);
   const std::vector<int>& order = model.export_joint_order();
   const int J = static_cast<int>(order.size());
 
@@ -56,18 +28,13 @@ Reference resample_motion(const RobotModel& model, const RobotMotion& motion, co
   ref.root_quat_W.resize(static_cast<std::size_t>(T_out));
   ref.joint_pos.resize(J, T_out);
   const bool has_contacts = !contacts.empty();
-  if (has_contacts)
-    for (auto& c : ref.contact) c.resize(static_cast<std::size_t>(T_out));
   if (com_W.cols() == T) ref.com_W.resize(3, T_out);
   if (cop_W.cols() == T) ref.cop_W.resize(2, T_out);
 
-  std::vector<int> nearest(static_cast<std::size_t>(T_out));  // the source frame each export frame's labels come from
   for (int k = 0; k < T_out; ++k) {
-    const double s = std::min(k / fps_out * motion.fps, static_cast<double>(T - 1));
-    const int i = std::min(static_cast<int>(std::floor(s)), T - 1);
-    const int j = std::min(i + 1, T - 1);
-    const double a = s - i;
-    const auto qi = motion.q.col(i), qj = motion.q.col(j);
+    const GridSample g = grid_sample(k, motion.fps, fps_out, T);
+    const auto qi = motion.q.col(g.i), qj = motion.q.col(g.j);
+    const double a = g.a;
     ref.root_pos_W.col(k) = (1 - a) * qi.head<3>() + a * qj.head<3>();
     const Quat Qi(qi[3], qi[4], qi[5], qi[6]), Qj(qj[3], qj[4], qj[5], qj[6]);
     ref.root_quat_W[static_cast<std::size_t>(k)] = model.root_link_orientation(Qi.slerp(a, Qj).normalized());
@@ -75,18 +42,11 @@ Reference resample_motion(const RobotModel& model, const RobotMotion& motion, co
       const int row = 7 + order[static_cast<std::size_t>(c)];
       ref.joint_pos(c, k) = (1 - a) * qi[row] + a * qj[row];
     }
-    nearest[static_cast<std::size_t>(k)] = a < 0.5 ? i : j;
-    if (has_contacts)
-      for (int foot = 0; foot < 2; ++foot)
-        ref.contact[static_cast<std::size_t>(foot)][static_cast<std::size_t>(k)] =
-            contacts.in_contact[static_cast<std::size_t>(foot)][static_cast<std::size_t>(nearest[static_cast<std::size_t>(k)])];
-    if (ref.com_W.cols() == T_out) ref.com_W.col(k) = (1 - a) * com_W.col(i) + a * com_W.col(j);
-    if (ref.cop_W.cols() == T_out) ref.cop_W.col(k) = (1 - a) * cop_W.col(i) + a * cop_W.col(j);
+    if (ref.com_W.cols() == T_out) ref.com_W.col(k) = (1 - a) * com_W.col(g.i) + a * com_W.col(g.j);
+    if (ref.cop_W.cols() == T_out) ref.cop_W.col(k) = (1 - a) * cop_W.col(g.i) + a * cop_W.col(g.j);
   }
   if (has_contacts)
-    for (int foot = 0; foot < 2; ++foot)
-      keep_unsampled_stances(contacts.in_contact[static_cast<std::size_t>(foot)], nearest, motion.fps, fps_out,
-                             ref.contact[static_cast<std::size_t>(foot)]);
+    for (std::size_t foot = 0; foot < 2; ++foot) ref.contact[foot] = resample_contact(contacts.in_contact[foot], motion.fps, fps_out, T_out);
   return ref;
 }
 
