@@ -1,6 +1,7 @@
 #include "retarget/passes/com_plan.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -13,8 +14,10 @@
 #include "retarget/model/kinematics.hpp"
 #include "retarget/model/robot_model.hpp"
 #include "retarget/passes/ik_pass.hpp"
+#include "retarget/passes/quality.hpp"
 #include "retarget/passes/stance_support.hpp"
 #include "retarget/pipeline/clip_ends.hpp"
+#include "retarget/pipeline/clip_rate.hpp"
 #include "src/refine/foot_plan.hpp"
 #include "src/refine/signal_smoother.hpp"
 #include "src/refine/smooth_correction.hpp"
@@ -129,11 +132,11 @@ ComPlanPass::ComPlanPass() {
   table_.add("foot_tolerance", options_.foot_tolerance_m, "[m] a round that moves a held sole further is dropped");
   table_.add("follow_tolerance", options_.follow_tolerance_m, "[m] frames whose COM misses the plan by more are reported");
   table_.add("whole_body_iterations", options_.whole_body_iterations,
-             "Gauss-Newton iterations of the whole-body ZMP correction on the export grid (0: off)", {0, 100, ""});
+             "Gauss-Newton iterations of the whole-body ZMP correction (0: off)", {0, 100, ""});
   table_.add("whole_body_zmp_weight", options_.whole_body_zmp_weight, "whole-body stage: weight of a ZMP row [1/m^2]");
   table_.add("whole_body_smoothing_hz", options_.whole_body_smoothing_hz, "[Hz] whole-body stage: cutoff of its smoothness term",
              {0.1, 100, "Hz"});
-  table_.add("fps", options_.export_fps, "[Hz] the export rate the whole-body stage works at (--fps sets it)", {1, 1000, "Hz"});
+  table_.add("fps", options_.export_fps, "[Hz] the export rate, the grid the pass works on (--fps sets it)", {1, 1000, "Hz"});
 }
 
 namespace {
@@ -156,15 +159,27 @@ double end_com_speed(const RobotModel& model, RobotData& data, const RobotMotion
 void ComPlanPass::run(Clip& clip, PassContext& ctx) {
   const RobotModel& model = ctx.model();
   RobotData& data = ctx.data();
-  RobotMotion& motion = clip.motion;
-  if (motion.num_frames() == 0) throw InputError("--passes", "com-plan needs the robot motion of the ik pass: put ik before com-plan");
+  if (clip.motion.num_frames() == 0) throw InputError("--passes", "com-plan needs the robot motion of the ik pass: put ik before com-plan");
+  if (!(options_.export_fps >= 1 && options_.export_fps <= 1000)) throw InputError("com-plan{fps}", "must be in [1, 1000] Hz");
+  // Wall time per stage [ms], all rounds (the -v statistics).
+  double ms_setup = 0, ms_plan = 0, ms_follow = 0, ms_zmp = 0, ms_whole_body = 0;
+  auto clock = std::chrono::steady_clock::now();
+  auto lap = [&clock](double& ms) {
+    const auto now = std::chrono::steady_clock::now();
+    ms += std::chrono::duration<double, std::milli>(now - clock).count();
+    clock = now;
+  };
+  // The pass works on the export grid (see the header): the clip's per-frame arrays resampled to
+  // it, and moved into the clip only if the pass keeps its result.
+  Clip work = resample_clip_frames(clip, options_.export_fps);
+  RobotMotion& motion = work.motion;
   if (!(options_.lead_s >= 0 && options_.lead_s <= 5)) throw InputError("com-plan{lead}", "must be in [0, 5] s");
   if (!(options_.lead_speed_mps >= 0)) throw InputError("com-plan{lead_speed}", "must be >= 0 m/s");
 
   // A clip that starts (ends) moving cannot be planned at rest on its first (last) frame without
   // bending its first (last) step: a standing lead-in (lead-out) holding that end's pose and
-  // contacts is added, in which the plan starts (stops) the COM. Dropped again below if no stage
-  // of the pass is kept.
+  // contacts is added, in which the plan starts (stops) the COM (to the work copy: a pass that
+  // keeps nothing leaves the clip without it).
   std::array<double, 2> end_speed{{0, 0}};
   std::array<int, 2> lead{{0, 0}};
   for (int e = 0; e < 2; ++e) {
@@ -172,11 +187,11 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
     const bool rest = e == 0 ? options_.plan.rest_at_start : options_.plan.rest_at_end;
     // No lead where that end is airborne: there is nothing to stand on.
     const std::size_t end = e == 0 ? 0 : static_cast<std::size_t>(motion.num_frames() - 1);
-    const bool standing = clip.contacts.empty() || clip.contacts.in_contact[0][end] || clip.contacts.in_contact[1][end];
+    const bool standing = work.contacts.empty() || work.contacts.in_contact[0][end] || work.contacts.in_contact[1][end];
     if (rest && standing && options_.lead_s > 0 && end_speed[static_cast<std::size_t>(e)] > options_.lead_speed_mps)
       lead[static_cast<std::size_t>(e)] = static_cast<int>(std::lround(options_.lead_s * motion.fps));
   }
-  hold_clip_ends(clip, lead[0], lead[1]);
+  hold_clip_ends(work, lead[0], lead[1]);
 
   const int T = motion.num_frames();
   const double fps = motion.fps, dt = options_.plan.period_s;
@@ -201,7 +216,7 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
     if (!(value >= 0 && value < 1e12)) throw InputError(std::string("com-plan{") + name + "}", "must be in [0, 1e12)");
   if (!(options_.velocity_margin < 1)) throw InputError("com-plan{velocity_margin}", "must be below 1");
   const std::string where = clip.human.source.path.empty() ? clip.name : clip.human.source.path;
-  const bool labelled = !clip.contacts.empty();
+  const bool labelled = !work.contacts.empty();
   const MatX q_in = motion.q;
 
   // What the COM-following IK follows, low-passed (see the header).
@@ -223,7 +238,7 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
     update_kinematics(model, data, q_in.col(f));
     std::array<bool, 2> down{{true, true}};
     for (std::size_t k = 0; k < 2; ++k) {
-      if (labelled) down[k] = clip.contacts.in_contact[k][static_cast<std::size_t>(f)] != 0;
+      if (labelled) down[k] = work.contacts.in_contact[k][static_cast<std::size_t>(f)] != 0;
       const Sole& sole = model.soles()[k];
       const Iso3 X = link_pose(model, data, sole.link);
       const Quat R(X.linear() * R_L_sole[k]);
@@ -237,7 +252,7 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
     MatX held = sole_pose[k];
     if (labelled && options_.swing_smoothing_s > 0) {
       const MatX low = gaussian_filter(sole_pose[k], options_.swing_smoothing_s * fps);
-      const auto& c = clip.contacts.in_contact[k];
+      const auto& c = work.contacts.in_contact[k];
       for (int a = 0; a < T;) {
         if (c[static_cast<std::size_t>(a)]) {
           ++a;
@@ -353,13 +368,17 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
   ik_options.regularization = options_.posture_regularization;
   ik_options.step_tolerance = 1e-9;  // micrometres: see the header
   ik_options.cost_tolerance = 1e-10;
+  // Levenberg–Marquardt's first damping is relative to the mean diagonal, which the held soles
+  // (foot_weight) dominate: the default 1e-3 starts about 1e5 times the posture's curvature and the
+  // solve spent its iterations lowering it (18 per frame, against 9 from here, at the same result).
+  ik_options.initial_damping = 1e-9;
   const LandmarkIk ik(model, ik_options);
   // The first frame starts cold (later frames start from their predecessor's correction): with
   // the same iterations it stopped about 3 mm short of its COM height, a jump into the next frame.
   IkOptions first_ik_options = ik_options;
   first_ik_options.max_iterations = 10 * options_.ik_iterations;
   const LandmarkIk first_ik(model, first_ik_options);
-  const bool have_landmarks = clip.targets[Landmark::Pelvis].present && clip.targets[Landmark::Pelvis].p_W.cols() == T;
+  const bool have_landmarks = work.targets[Landmark::Pelvis].present && work.targets[Landmark::Pelvis].p_W.cols() == T;
   const VecX& v_max = model.velocity_limits();
   // Each frame starts from the low-passed pose plus the previous frame's correction.
   auto follow = [&](const Eigen::Matrix2Xd& com_target) {
@@ -374,7 +393,7 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
       const VecX q_frame = q_smooth.col(f);
       targets.assign(frames.soles[static_cast<std::size_t>(f)].begin(), frames.soles[static_cast<std::size_t>(f)].end());
       if (have_landmarks)
-        for (IkTarget t : make_ik_targets(model, ik, clip.targets, f, 0.5)) {
+        for (IkTarget t : make_ik_targets(model, ik, work.targets, f, 0.5)) {
           if (on_a_foot(model, t.link)) continue;
           t.weight *= options_.landmark_factor;
           t.orientation_weight *= options_.landmark_factor;
@@ -424,8 +443,10 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
   std::string qp_trouble, round_outside;
   int rounds_dropping_soles = 0;
   double max_plan_violation = 0;
+  lap(ms_setup);
   for (int round = 0; round < options_.iterations; ++round) {
     const ZmpPlan plan = plan_com_zmp(samples, plan_options);
+    lap(ms_plan);
     ++rounds;
     qp_iterations += plan.solver.iterations;
     if (plan.solver.status != SparseQpStatus::Solved && qp_trouble.empty())
@@ -439,6 +460,7 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
       zmp_plan.col(f) = at_time(plan.zmp_W, 1 / dt, f / fps);
     }
     Follow followed = follow(com_target);
+    lap(ms_follow);
     const MultibodyZmp realised = multibody_zmp(model, data, followed.q, fps);
     const Score now = score(realised.zmp_W);
     {
@@ -465,105 +487,54 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
     offset = angular_part(realised, com_target);
     for (int k = 0; k < K; ++k) samples[static_cast<std::size_t>(k)].zmp_offset_W = at_time(offset, fps, k * dt);
     zero_rest_offsets();
+    lap(ms_zmp);
   }
 
-  // 5. Whole-body stage, on the export grid (`fps`, where the exported motion's ZMP is measured):
-  // what the COM plan leaves outside (mostly the angular-momentum part the rounds cannot predict)
-  // removed by the smallest smooth joint-space correction whose multibody ZMP rows hold the ZMP in
-  // the support shrunk by the margin, the soles where they are (stance held, swing on its path),
-  // the floor, the limits and the speed limits (refine's smooth correction with ZMP rows). The
-  // correction is smooth (whole_body_smoothing_hz), so it is carried to the source rate by linear
-  // interpolation; the stage is kept if the export grid's ZMP improves and the soles stay held.
+  // 5. Whole-body stage: what the COM plan leaves outside (mostly the angular-momentum part the
+  // rounds cannot predict) removed by the smallest smooth joint-space correction whose multibody
+  // ZMP rows hold the ZMP in the support shrunk by the margin, the soles where they are (stance
+  // held, swing on its path), the floor, the limits and the speed limits (refine's smooth correction
+  // with ZMP rows); kept if the ZMP improves and the soles stay held.
   refine::CorrectionReport whole_body;
-  bool exported_scored = false;  // the export grid's score of the result (`exported`) is known
-  Score exported;
-  const int K_out = static_cast<int>(std::floor((T - 1) / fps * options_.export_fps + 1e-9)) + 1;
-  if (options_.whole_body_iterations > 0 && K_out >= 4) {
-    const double fo = options_.export_fps;
+  if (options_.whole_body_iterations > 0 && T >= 4) {
     const MatX& q0 = best_follow.q;
-    // Source frames i, i + 1 and weight a of the export grid's frame k (as the resample pass).
-    auto source_of = [&](int k, int& i, int& j, double& a) {
-      const double s = std::min(k / fo * fps, static_cast<double>(T - 1));
-      i = std::min(static_cast<int>(std::floor(s)), T - 1);
-      j = std::min(i + 1, T - 1);
-      a = s - i;
-    };
-    auto to_export_grid = [&](const MatX& q) {
-      MatX out(model.nq(), K_out);
-      for (int k = 0; k < K_out; ++k) {
-        int i, j;
-        double a;
-        source_of(k, i, j, a);
-        out.col(k) = (1 - a) * q.col(i) + a * q.col(j);
-        const Quat Qi(q(3, i), q(4, i), q(5, i), q(6, i)), Qj(q(3, j), q(4, j), q(5, j), q(6, j));
-        const Quat Q = Qi.slerp(a, Qj).normalized();
-        out.col(k).segment<4>(3) << Q.w(), Q.x(), Q.y(), Q.z();
-      }
-      return out;
-    };
-    const MatX q0o = to_export_grid(q0);
     refine::FootPlan feet;
-    std::vector<SupportPolygon> polygon_o(static_cast<std::size_t>(K_out));
     refine::CorrectionOptions co;
-    co.zmp_support.resize(static_cast<std::size_t>(K_out));
-    for (std::size_t k = 0; k < 2; ++k) feet.feet[k].resize(static_cast<std::size_t>(K_out));
-    for (int k = 0; k < K_out; ++k) {
-      int i, j;
-      double a;
-      source_of(k, i, j, a);
-      const int nearest = a < 0.5 ? i : j;
-      update_kinematics(model, data, q0o.col(k));
-      std::array<bool, 2> down{{true, true}};
+    co.zmp_support = shrunk;
+    for (std::size_t k = 0; k < 2; ++k) feet.feet[k].resize(static_cast<std::size_t>(T));
+    for (int f = 0; f < T; ++f) {
+      update_kinematics(model, data, q0.col(f));
       for (std::size_t foot = 0; foot < 2; ++foot) {
-        if (labelled) down[foot] = clip.contacts.in_contact[foot][static_cast<std::size_t>(nearest)] != 0;
+        const bool down = !labelled || work.contacts.in_contact[foot][static_cast<std::size_t>(f)] != 0;
         const Iso3 X = link_pose(model, data, model.soles()[foot].link);
-        // Held wherever a source frame the interpolation reaches (within one export period) is in
-        // stance, so the interpolated correction holds every source stance frame too.
-        bool hold = down[foot];
-        if (labelled)
-          for (int g = std::max(0, static_cast<int>(std::floor((k - 1) / fo * fps)));
-               g <= std::min(T - 1, static_cast<int>(std::ceil((k + 1) / fo * fps))) && !hold; ++g)
-            hold = clip.contacts.in_contact[foot][static_cast<std::size_t>(g)] != 0;
-        refine::FootTarget& t = feet.feet[foot][static_cast<std::size_t>(k)];
-        t.mode = hold ? refine::FootMode::Stance : refine::FootMode::Swing;
+        refine::FootTarget& t = feet.feet[foot][static_cast<std::size_t>(f)];
+        t.mode = down ? refine::FootMode::Stance : refine::FootMode::Swing;
         t.pose.p_W = X * model.soles()[foot].p_L_center;
         t.pose.R_W = X.linear() * R_L_sole[foot];
       }
-      polygon_o[static_cast<std::size_t>(k)] = stance_support_polygon(model, data, down);
-      co.zmp_support[static_cast<std::size_t>(k)] = stance_support_polygon(model, data, down, reach).half_planes(options_.margin_m);
     }
-    auto score_o = [&](const Eigen::Matrix2Xd& zmp) { return score_zmp(polygon_o, zmp, 0.01); };  // the metric's "within 1 cm"
     // The ZMP rows' Jacobians are large (c_z fps² / g ≈ 60 at 30 fps): the stance rows are firmer
     // than refine's so the soles win.
     co.stance_weight = 1e8;
     co.swing_weight = 1e4;
     co.q_lower = model.q_lower().array() + 1e-4;
     co.q_upper = model.q_upper().array() - 1e-4;
-    co.max_step = (1 - options_.velocity_margin) * v_max / fo;
-    co.lambda = refine::smoothing_lambda(options_.whole_body_smoothing_hz, fo);
+    co.max_step = (1 - options_.velocity_margin) * v_max / fps;
+    co.lambda = refine::smoothing_lambda(options_.whole_body_smoothing_hz, fps);
     co.stiffness = refine::legs_first_stiffness(model);  // who moves: the legs first (refine's rule)
     co.R_L_sole = R_L_sole;
     co.iterations = options_.whole_body_iterations;
     co.zmp_weight = options_.whole_body_zmp_weight;
-    co.fps = fo;
+    co.fps = fps;
     co.zmp_rest_start = options_.plan.rest_at_start;
     co.zmp_rest_end = options_.plan.rest_at_end;
-    const MatX q1o = refine::solve_smooth_correction(model, data, q0o, q0o, feet, co, &whole_body);
-    // The correction to the source rate, joints clamped (the limit rows are penalties).
-    MatX q1 = q0;
-    for (int f = 0; f < T; ++f) {
-      const double s = std::min(f / fps * fo, static_cast<double>(K_out - 1));
-      const int k = std::min(static_cast<int>(std::floor(s)), K_out - 1), k1 = std::min(k + 1, K_out - 1);
-      const double a = s - k;
-      const VecX delta = (1 - a) * difference(model, q0o.col(k), q1o.col(k), 1.0) + a * difference(model, q0o.col(k1), q1o.col(k1), 1.0);
-      q1.col(f) = integrate(model, q0.col(f), delta, 1.0);
-      for (int i = 0; i < model.nu(); ++i) q1(7 + i, f) = std::clamp(q1(7 + i, f), model.q_lower()[i], model.q_upper()[i]);
-    }
-    // Between export frames the interpolated correction holds a stance sole only approximately
-    // (and not at all where the correction turns fast): those source frames are projected back onto
-    // the held soles by the smallest change (root and legs; each joint within ±0.05 rad). Then the
-    // soles are checked on every source frame the export spans (frames after its last sample are
-    // not exported).
+    MatX q1 = refine::solve_smooth_correction(model, data, q0, q0, feet, co, &whole_body);
+    // The limit, speed and stance rows are penalties: joints are clamped into their limits, and
+    // where a ZMP row pulled harder than a stance row (or a clamp moved a leg) the frame is projected
+    // back onto its held soles by the smallest change (each joint within ±0.05 rad, so no leg
+    // changes branch within a frame); last, each joint's step is cut to its speed limit (a joint
+    // beyond it rejoins its trajectory as fast as the limit allows).
+    for (int i = 0; i < model.nu(); ++i) q1.row(7 + i) = q1.row(7 + i).cwiseMax(model.q_lower()[i]).cwiseMin(model.q_upper()[i]);
     {
       IkOptions po;
       po.max_iterations = 20;
@@ -572,19 +543,18 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
       po.cost_tolerance = 1e-12;
       const LandmarkIk hold_ik(model, po);
       std::vector<IkTarget> held;
+      IkJointBounds step;
       for (int f = 0; f < T; ++f) {
         update_kinematics(model, data, q1.col(f));
         held.clear();
         double off = 0;
         for (std::size_t foot = 0; foot < 2; ++foot) {
-          if (labelled && !clip.contacts.in_contact[foot][static_cast<std::size_t>(f)]) continue;
+          if (labelled && !work.contacts.in_contact[foot][static_cast<std::size_t>(f)]) continue;
           const IkTarget& t = frames.soles[static_cast<std::size_t>(f)][foot];
           off = std::max(off, (link_point(model, data, t.link, t.p_L) - t.p_W).norm());
           held.push_back(t);
         }
         if (off <= 2e-4) continue;
-        // Small moves only (no branch change of a leg within a frame): ±0.05 rad per joint.
-        IkJointBounds step;
         step.lower = (q1.col(f).tail(model.nu()).array() - 0.05).cwiseMax(model.q_lower().array());
         step.upper = (q1.col(f).tail(model.nu()).array() + 0.05).cwiseMin(model.q_upper().array());
         VecX q = q1.col(f);
@@ -592,63 +562,65 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
         q1.col(f) = q;
       }
     }
-    // The correction's speed rows hold the export grid; between its frames the source motion's own
-    // speed adds to the correction's slope, so the joints are rate-limited at the source rate
-    // (a step beyond the limit is cut; the joint rejoins its trajectory as fast as the limit allows).
     for (int i = 0; i < model.nu(); ++i) {
       if (!(v_max[i] > 0)) continue;
       const double step = (1 - options_.velocity_margin) * v_max[i] / fps;
       for (int f = 1; f < T; ++f) q1(7 + i, f) = std::clamp(q1(7 + i, f), q1(7 + i, f - 1) - step, q1(7 + i, f - 1) + step);
     }
     double sole_move = 0;
-    for (int f = 0; f < T && f / fps <= (K_out - 1) / fo + 1e-9; ++f) {
+    for (int f = 0; f < T; ++f) {
       update_kinematics(model, data, q1.col(f));
       for (std::size_t foot = 0; foot < 2; ++foot)
-        if (!labelled || clip.contacts.in_contact[foot][static_cast<std::size_t>(f)])
+        if (!labelled || work.contacts.in_contact[foot][static_cast<std::size_t>(f)])
           sole_move = std::max(sole_move, (link_point(model, data, model.soles()[foot].link, model.soles()[foot].p_L_center) -
                                            frames.soles[static_cast<std::size_t>(f)][foot].p_W).norm());
     }
-    const MultibodyZmp z0o = multibody_zmp(model, data, q0o, fo), z1o = multibody_zmp(model, data, to_export_grid(q1), fo);
-    const Score before_o = score_o(z0o.zmp_W), after_o = score_o(z1o.zmp_W);
-    const bool kept = sole_move <= options_.foot_tolerance_m && after_o.better_than(before_o);
-    exported_scored = true;
-    exported = kept ? after_o : before_o;
+    const MultibodyZmp z1 = multibody_zmp(model, data, q1, fps);
+    const Score before_1cm = score_zmp(frames.polygon, multibody_zmp(model, data, q0, fps).zmp_W, kZmpNear_m),
+                after_1cm = score_zmp(frames.polygon, z1.zmp_W, kZmpNear_m);
+    const bool kept = sole_move <= options_.foot_tolerance_m && after_1cm.better_than(before_1cm);
+    ctx.statistics.set("whole-body-zmp", after_1cm.outside, "frames",
+                       format("stance frames more than 1 cm outside after the whole-body stage, %d before (%s; %d iterations, "
+                              "%d rows left, worst %.3f m; sole move %.4f m)",
+                              before_1cm.outside, kept ? "kept" : "dropped", whole_body.iterations, whole_body.zmp_rows,
+                              whole_body.zmp_excess_max, sole_move));
     if (kept) {
-      best_follow.q = q1;
-      const MultibodyZmp z1 = multibody_zmp(model, data, q1, fps);
+      best_follow.q = std::move(q1);
       best = score(z1.zmp_W);
       best_com = z1.com_W.topRows<2>();
-      // The exported balance reference: the export grid's ZMP (what the rows held), interpolated.
-      for (int f = 0; f < T; ++f) best_zmp.col(f) = at_time(z1o.zmp_W, fo, f / fps);
+      best_zmp = z1.zmp_W;  // the exported balance reference: what the rows held
     }
-    ctx.statistics.set("whole-body-zmp", after_o.outside, "frames",
-                       format("export-grid stance frames more than 1 cm outside after the whole-body stage, %d before (%s; %d "
-                              "iterations, %d rows left, worst %.3f m; sole move %.4f m)",
-                              before_o.outside, kept ? "kept" : "dropped", whole_body.iterations, whole_body.zmp_rows,
-                              whole_body.zmp_excess_max, sole_move));
   }
+  lap(ms_whole_body);
 
   const bool unchanged = (best_follow.q - motion.q).cwiseAbs().maxCoeff() == 0;
-  // Nothing kept: the clip is exported as it came, without the lead frames (the balance reference
-  // is then the retargeted COM and ZMP over the clip's own frames).
-  const bool drop_lead = unchanged && (lead[0] > 0 || lead[1] > 0);
-  const int first = drop_lead ? lead[0] : 0, kept = drop_lead ? T - lead[0] - lead[1] : T;
-  if (drop_lead) {
-    drop_clip_ends(clip, lead[0], lead[1]);  // the motion is the held one: this restores it exactly
+  // The result's stance frames more than 1 cm outside (the metric's "within 1 cm", design.md §6).
+  const Score exported = unchanged ? Score{} : score_zmp(frames.polygon, multibody_zmp(model, data, best_follow.q, fps).zmp_W, kZmpNear_m);
+  if (unchanged) {
+    // Nothing kept: the clip stays as it came (its rate, no lead frames); its balance reference is
+    // the retargeted COM and multibody ZMP.
     lead = {{0, 0}};
+    const MultibodyZmp z = multibody_zmp(model, data, clip.motion.q, clip.motion.fps);
+    clip.com_replanned_W = z.com_W;
+    clip.cop_predicted_W = z.zmp_W;
   } else {
-    motion.q = best_follow.q;
+    motion.q = std::move(best_follow.q);
+    clip.motion = std::move(work.motion);
+    clip.contacts = std::move(work.contacts);
+    clip.targets = std::move(work.targets);
+    clip.lead_in_frames = work.lead_in_frames;
+    clip.lead_out_frames = work.lead_out_frames;
+    clip.com_replanned_W.resize(3, T);
+    clip.com_replanned_W.topRows<2>() = best_com;
+    clip.com_replanned_W.row(2) = com_z.transpose();
+    clip.cop_predicted_W = best_zmp;
   }
   for (int e = 0; e < 2; ++e)
     ctx.statistics.set(e == 0 ? "lead-in" : "lead-out", lead[static_cast<std::size_t>(e)] / fps, "s",
                        format("standing frames added %s the clip (its COM %s at %.2f m/s; threshold %.2f m/s)%s",
                               e == 0 ? "before" : "after", e == 0 ? "starts" : "ends",
                               end_speed[static_cast<std::size_t>(e)], options_.lead_speed_mps,
-                              drop_lead ? "; removed again: the pass kept nothing" : ""));
-  clip.com_replanned_W.resize(3, kept);
-  clip.com_replanned_W.topRows<2>() = best_com.middleCols(first, kept);
-  clip.com_replanned_W.row(2) = com_z.segment(first, kept).transpose();
-  clip.cop_predicted_W = best_zmp.middleCols(first, kept);
+                              unchanged && (end_speed[static_cast<std::size_t>(e)] > options_.lead_speed_mps) ? "; none kept: the pass kept nothing" : ""));
 
   if (!qp_trouble.empty()) ctx.diagnostics.warn(where, "com-plan: the ZMP plan did not converge: " + qp_trouble);
   if (rounds_dropping_soles > 0)
@@ -657,14 +629,10 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
   if (unchanged)
     ctx.diagnostics.warn(where, "com-plan: no plan moved the ZMP into the support on more frames with the soles held; the "
                                 "motion is left as it was");
-  if (exported_scored && exported.outside > 0)
-    ctx.diagnostics.warn(where, format("com-plan: the multibody ZMP stays more than 1 cm outside the support on %d of the exported "
+  if (exported.outside > 0)
+    ctx.diagnostics.warn(where, format("com-plan: the multibody ZMP stays more than 1 cm outside the support on %d of the "
                                        "stance frames (worst %.1f cm); the motion may be beyond this robot's balance",
                                        exported.outside, 100 * exported.worst_m));
-  else if (!exported_scored && best.outside > 0)
-    ctx.diagnostics.warn(where, format("com-plan: the multibody ZMP stays outside the support on %d of the stance frames "
-                                       "(worst %.1f cm); the motion may be beyond this robot's balance",
-                                       best.outside, 100 * best.worst_m));
   if (best_follow.missed_frames > 0)
     ctx.diagnostics.warn(where, format("com-plan: the COM could not follow the plan on %d frames (worst %.1f cm at %.2f s): "
                                        "joint or velocity limits, or reach with the soles held",
@@ -675,11 +643,16 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
   int stance_frames = 0;
   for (int f = 1; f + 1 < T; ++f) stance_frames += !frames.polygon[static_cast<std::size_t>(f)].empty();
   ctx.statistics.set("zmp-outside-before", before.outside, "frames", format("of %d stance frames, worst %.3f m", stance_frames, before.worst_m));
-  ctx.statistics.set("zmp-outside-after", best.outside, "frames", format("stance frames at the source rate, worst %.3f m", best.worst_m));
+  ctx.statistics.set("zmp-outside-after", best.outside, "frames", format("stance frames, worst %.3f m", best.worst_m));
   ctx.statistics.set("rounds", rounds, "", format("multibody correction rounds (%d QP active-set iterations); frames outside per round: %s", qp_iterations, round_outside.c_str()));
   ctx.statistics.set("frames-not-followed", best_follow.missed_frames, "frames",
                      format("|COM - plan| > %.3f m (worst %.3f m)", options_.follow_tolerance_m, best_follow.max_miss_m));
   ctx.statistics.set("max-sole-move", best_follow.max_foot_error_m, "m", "held soles' largest move");
+  ctx.statistics.set("time-setup", ms_setup, "ms", "resampling, held soles, support polygons, the input's multibody ZMP");
+  ctx.statistics.set("time-plan", ms_plan, "ms", "COM/ZMP QP, all rounds");
+  ctx.statistics.set("time-follow", ms_follow, "ms", "COM-following IK, all rounds");
+  ctx.statistics.set("time-zmp", ms_zmp, "ms", "multibody ZMP and scores, all rounds");
+  ctx.statistics.set("time-whole-body", ms_whole_body, "ms", "whole-body stage");
 }
 
 }  // namespace rt

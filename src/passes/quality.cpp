@@ -219,8 +219,9 @@ QualityMetrics compute_quality(const RobotModel& model, RobotData& data, const C
   QualityMetrics m = ref.num_frames() > 0 ? foot_metrics(model, data, reference_q(model, ref), ref.fps, ref.contact)
                                           : foot_metrics(model, data, motion.q, motion.fps, clip.contacts.in_contact);
 
-  // Landmark errors at the source rate, on the source's frames (a standing lead-in or lead-out
-  // has no source sample: its targets are the end's, held).
+  // Landmark errors at the robot motion's rate (the source's; the export rate after com-plan), on
+  // the source's frames (a standing lead-in or lead-out has no source sample: its targets are the
+  // end's, held).
   std::vector<double> per_frame;
   std::array<std::vector<double>, kLandmarkCount> per_landmark;
   if (clip.targets[Landmark::Pelvis].present)
@@ -248,7 +249,7 @@ QualityMetrics compute_quality(const RobotModel& model, RobotData& data, const C
     }
   }
 
-  // Limits at the source rate.
+  // Limits at the robot motion's rate.
   for (int f = 0; f < T; ++f)
     for (int i = 0; i < nu; ++i) {
       const double v = motion.q(7 + i, f);

@@ -60,22 +60,4 @@ void hold_clip_ends(Clip& clip, int before, int after) {
   clip.lead_out_frames += after;
 }
 
-void drop_clip_ends(Clip& clip, int before, int after) {
-  RT_DEMAND(before >= 0 && after >= 0 && before <= clip.lead_in_frames && after <= clip.lead_out_frames,
-            "drop_clip_ends: more frames than the clip's lead");
-  if (before == 0 && after == 0) return;
-  each_frame_array(
-      clip,
-      [&](auto& m) {
-        std::decay_t<decltype(m)> out = m.middleCols(before, m.cols() - before - after);
-        m = std::move(out);
-      },
-      [&](auto& v) {
-        v.erase(v.end() - after, v.end());
-        v.erase(v.begin(), v.begin() + before);
-      });
-  clip.lead_in_frames -= before;
-  clip.lead_out_frames -= after;
-}
-
 }  // namespace rt

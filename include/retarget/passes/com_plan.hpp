@@ -3,11 +3,17 @@
 /// exported motion dynamically feasible on flat ground by planning the whole clip's horizontal COM
 /// over its known footsteps and moving the body onto that plan.
 ///
+/// The pass works on the export grid (`fps`, the resample pass's rate, which `--fps` sets): the
+/// ZMP is a second derivative of the motion, so it is planned and corrected on the frames it is
+/// exported and measured on (clip_rate.hpp resamples the clip's per-frame arrays to that grid
+/// first). A pass that keeps anything leaves the clip's motion, contacts and landmark targets at
+/// the export rate (the resample pass then copies them); one that keeps nothing leaves the clip
+/// as it came. Working at 30 fps rather than a 120 Hz source rate is also 4x fewer frames.
+///
 ///  0. Lead: where the clip starts (ends) moving and standing, a standing lead-in (lead-out) that
 ///     holds that end's pose and contact labels is added (`lead`, clip_ends.hpp), so the plan can
-///     start (stop) the COM at rest there rather than inside the clip's first (last) step. The
-///     lead is dropped again if the pass keeps nothing.
-///  1. Support: per source frame, the hull of the sole rectangles of the feet labelled in contact
+///     start (stop) the COM at rest there rather than inside the clip's first (last) step.
+///  1. Support: per frame, the hull of the sole rectangles of the feet labelled in contact
 ///     (stance_support.hpp), shrunk by `margin`; no constraint on flight frames.
 ///  2. Plan (zmp_plan.hpp): on a `period` grid, the COM closest to the retargeted COM (with a jerk
 ///     penalty) whose cart-table ZMP, plus the multibody correction Δp, stays in the support; rest
@@ -22,17 +28,16 @@
 ///     motion from 3 (centroidal.hpp) minus the plan's cart-table ZMP is the next plan's Δp; 2-4
 ///     repeat until that ZMP is inside the (unshrunk) support on every stance frame, or
 ///     `iterations` times. The round with the fewest stance frames outside is kept, if it holds
-///     the soles to `foot_tolerance` and beats the retargeted motion; otherwise the motion is
-///     left as it was (with a warning).
-///  5. Whole-body stage, on the export grid (`fps`, the resample pass's rate, which `--fps` sets):
-///     the angular-momentum part that the rounds only predict (each round's IK changes it) is
-///     removed by refine's smooth joint-space correction with one-sided multibody ZMP rows
-///     (src/refine/smooth_correction.hpp): the smallest smooth change whose ZMP, by the exported
+///     the soles to `foot_tolerance` and beats the retargeted motion.
+///  5. Whole-body stage: the angular-momentum part that the rounds only predict (each round's IK
+///     changes it) is removed by refine's smooth joint-space correction with one-sided multibody
+///     ZMP rows (src/refine/smooth_correction.hpp): the smallest smooth change whose ZMP, by the
 ///     frames' own finite differences, lies inside the shrunk support, stance soles held, swing
-///     soles on their paths, floor, limits and speed limits kept. The correction is smooth, so it
-///     is carried to the source rate by linear interpolation; joints are then rate-limited, and
-///     source frames whose stance soles the interpolation moved are projected back (smallest
-///     change). Kept if the export grid's ZMP improves and the soles hold to `foot_tolerance`.
+///     soles on their paths, floor, limits and speed limits kept (rows that are penalties: joints
+///     are then clamped to their limits, frames whose stance soles gave are projected back onto
+///     them, and steps are cut to the speed limits). Kept if the ZMP improves and the soles hold
+///     to `foot_tolerance`.
+///  If neither 4 nor 5 is kept, the clip is left as it came (with a warning).
 ///
 /// The planned COM (3 x T: plan x, y; the low-passed height) and the plan's ZMP go to the
 /// reference (meta.json and NPZ `com_pos_w`, `zmp_w`) as the balance reference.
@@ -78,8 +83,8 @@ struct ComPlanPassOptions {
   int whole_body_iterations = 20;
   double whole_body_zmp_weight = 1e4;    ///< [1/m²] weight of a ZMP half-plane row
   double whole_body_smoothing_hz = 1.0;  ///< [Hz] cutoff of the correction's smoothness term
-  /// [Hz] the export rate (the resample pass's; `--fps` sets both): the whole-body stage works on
-  /// that grid, where the exported motion's ZMP is measured by finite differences.
+  /// [Hz] the export rate (the resample pass's; `--fps` sets both): the pass works on that grid,
+  /// where the exported motion's ZMP is measured by finite differences.
   double export_fps = 30.0;
 };
 

@@ -23,7 +23,8 @@ struct LandmarkTargets {
   LandmarkTrack& operator[](Landmark l) { return tracks[static_cast<std::size_t>(index(l))]; }
 };
 
-/// Robot motion at the source rate (output of `ik`, edited by later passes).
+/// Robot motion at the source rate (output of `ik`, edited by later passes; com-plan puts it on the
+/// export grid, clip_rate.hpp).
 struct RobotMotion {
   double fps = 0;
   MatX q;                      ///< nq x T generalised positions (robot_model.hpp convention)
@@ -33,7 +34,7 @@ struct RobotMotion {
   int num_frames() const { return static_cast<int>(q.cols()); }
 };
 
-/// Contact schedule at the source rate: per foot (0 left, 1 right) per frame, 1 = in contact.
+/// Contact schedule at the robot motion's rate: per foot (0 left, 1 right) per frame, 1 = in contact.
 struct ContactSchedule {
   std::array<std::vector<std::uint8_t>, 2> in_contact;
   bool empty() const { return in_contact[0].empty(); }
@@ -43,14 +44,15 @@ struct Clip {
   std::string name;              ///< output stem (source file name without extension)
   HumanMotion human;             ///< normalised source motion (parse)
   LandmarkTargets targets;       ///< scaled landmarks (scale)
-  RobotMotion motion;            ///< robot motion at the source rate (ik, flat-contact, refine, ground)
+  RobotMotion motion;            ///< robot motion at the source rate (ik, flat-contact, refine, ground); at the export rate after com-plan
   ContactSchedule contacts;      ///< (label-contacts)
   VecX flat_contact_offset;      ///< joint-angle differences added by flat-contact (nu), empty if not run
-  Mat3X com_replanned_W;         ///< re-planned COM at the source rate (com-replan), empty if not run
-  Eigen::Matrix2Xd cop_predicted_W;  ///< predicted COP at the source rate (com-replan)
+  Mat3X com_replanned_W;         ///< re-planned COM at the robot motion's rate (com-replan, com-plan), empty if not run
+  Eigen::Matrix2Xd cop_predicted_W;  ///< predicted COP / planned ZMP at the robot motion's rate (com-replan, com-plan)
   Reference reference;           ///< the output at the export rate (resample)
-  /// Standing frames added before the source's first and after its last frame (source rate;
-  /// com-plan's lead-in and lead-out, clip_ends.hpp): source frame f is robot frame f + lead_in_frames.
+  /// Standing frames added before the source's first and after its last frame (robot motion's rate;
+  /// com-plan's lead-in and lead-out, clip_ends.hpp): the source's time t is the robot motion's
+  /// t + lead_in_frames / motion.fps.
   int lead_in_frames = 0;
   int lead_out_frames = 0;
   Diagnostics diagnostics;       ///< warnings from all passes

@@ -145,12 +145,14 @@ TEST(ComPlanPass, AddsAStandingLeadWhereAGaitStartsAndEndsMidStride) {
   EXPECT_EQ(no_lead.clip.lead_in_frames + no_lead.clip.lead_out_frames, 0);
   EXPECT_EQ(plain.clip.lead_in_frames + plain.clip.lead_out_frames, 0);
 
+  // The pass works on the export grid: the motion it leaves is at the export rate.
   const Clip& c = planned.clip;
-  const int lead = static_cast<int>(std::lround(c.motion.fps));  // 1 s at the source rate
+  EXPECT_DOUBLE_EQ(c.motion.fps, 30.0);
+  const int lead = 30;  // 1 s
   EXPECT_EQ(c.lead_in_frames, lead);
   EXPECT_EQ(c.lead_out_frames, lead);
-  EXPECT_EQ(c.motion.num_frames(), plain.clip.motion.num_frames() + 2 * lead);
-  EXPECT_NEAR(c.reference.num_frames(), plain.clip.reference.num_frames() + 60, 1);
+  EXPECT_EQ(c.motion.num_frames(), plain.clip.reference.num_frames() + 2 * lead);
+  EXPECT_EQ(c.reference.num_frames(), c.motion.num_frames());
   const PassRecord* pass = find_pass(planned, "com-plan");
   ASSERT_NE(pass, nullptr);
   EXPECT_DOUBLE_EQ(pass->statistics.get("lead-in"), 1.0);
@@ -187,14 +189,48 @@ TEST(ComPlanPass, AddsAStandingLeadWhereAGaitStartsAndEndsMidStride) {
   EXPECT_LT(end_speed, 0.02);
 }
 
+// The ZMP is a second derivative: it is planned and corrected on the grid it is exported (and
+// measured) at, whatever the ratio of the rates. BTK's PiG gait is at 100 Hz; exported at 50 Hz
+// (mjlab's rate; every export frame falls between two source frames half the time) the bars hold
+// on the 50 Hz frames.
+TEST(ComPlanPass, PlansOnTheExportGrid) {
+  RT_REQUIRE_SHARED(clip, "c3d/btk_PiG_Motion-FlatFoot-One_vicon_fullbody.c3d");
+  const std::unique_ptr<RobotModel> model = RobotModel::load("g1");
+  ConvertRequest request;
+  request.clip_path = clip;
+  request.write_outputs = false;
+  request.enabled_passes = {"com-plan"};
+  request.fps = 50;
+  const ConvertResult planned = run_convert(request, *model);
+  request.enabled_passes.clear();
+  const ConvertResult plain = run_convert(request, *model);
+  ASSERT_DOUBLE_EQ(plain.clip.motion.fps, 100.0);
+  const Clip& c = planned.clip;
+  EXPECT_DOUBLE_EQ(c.motion.fps, 50.0);
+  EXPECT_DOUBLE_EQ(c.reference.fps, 50.0);
+  EXPECT_EQ(c.reference.num_frames(), c.motion.num_frames());
+  EXPECT_EQ(c.lead_in_frames, 50);
+  for (std::size_t foot = 0; foot < 2; ++foot) EXPECT_EQ(c.contacts.in_contact[foot], c.reference.contact[foot]);
+  const QualityMetrics &q = planned.quality, &q0 = plain.quality;
+  EXPECT_LT(q0.zmp_near_fraction, 0.5);
+  EXPECT_GT(q.zmp_near_fraction, 0.98);
+  EXPECT_GT(q.zmp_single_near_fraction, 0.95);
+  EXPECT_LT(q.landmark_error_median_m, q0.landmark_error_median_m + 0.02);
+  EXPECT_LE(q.foot_skating_max_m, 0.003);
+  EXPECT_LE(q.stance_tilt_max_deg, 0.5);
+  EXPECT_EQ(q.position_limit_violations, 0);
+  EXPECT_EQ(q.velocity_limit_violations, 0);
+}
+
 // A pass that keeps nothing (here: no round and no whole-body stage) exports the clip as it came:
-// the lead frames go again, and the balance reference covers the clip's own frames.
+// at its own rate, without lead frames, the balance reference over the clip's own frames.
 TEST(ComPlanPass, RemovesTheLeadWhenItKeepsNothing) {
   RT_REQUIRE_SHARED(clip, "c3d/btk_PiG_Motion-FlatFoot-One_vicon_fullbody.c3d");
   const std::unique_ptr<RobotModel> model = RobotModel::load("g1");
   const ConvertResult plain = convert(*model, clip, false);
   const ConvertResult idle = convert_with_com_plan(*model, clip, "iterations=0,whole_body_iterations=0");
   EXPECT_EQ(idle.clip.lead_in_frames + idle.clip.lead_out_frames, 0);
+  EXPECT_EQ(idle.clip.motion.fps, plain.clip.motion.fps);
   EXPECT_EQ(idle.clip.motion.q, plain.clip.motion.q);
   EXPECT_EQ(idle.clip.contacts.in_contact, plain.clip.contacts.in_contact);
   const Reference& ref = idle.clip.reference;

@@ -76,24 +76,5 @@ TEST(HoldClipEnds, AddsUpAndLeavesAClipWithoutLeadAsItWas) {
   EXPECT_EQ(clip.contacts.in_contact[0].size(), 7u);
 }
 
-TEST(HoldClipEnds, DropClipEndsRestoresTheClip) {
-  const Clip original = three_frame_clip();
-  Clip clip = original;
-  hold_clip_ends(clip, 2, 1);
-  drop_clip_ends(clip, 2, 1);
-  EXPECT_EQ(clip.lead_in_frames, 0);
-  EXPECT_EQ(clip.lead_out_frames, 0);
-  EXPECT_EQ(clip.motion.q, original.motion.q);
-  EXPECT_EQ(clip.motion.q_per_frame_ik, original.motion.q_per_frame_ik);
-  EXPECT_EQ(clip.motion.landmark_error_m, original.motion.landmark_error_m);
-  EXPECT_EQ(clip.motion.worst_landmark, original.motion.worst_landmark);
-  EXPECT_EQ(clip.contacts.in_contact, original.contacts.in_contact);
-  const LandmarkTrack &a = clip.targets[Landmark::Pelvis], &b = original.targets[Landmark::Pelvis];
-  EXPECT_EQ(a.p_W, b.p_W);
-  EXPECT_EQ(a.state, b.state);
-  ASSERT_EQ(a.R_W.size(), b.R_W.size());
-  for (std::size_t k = 0; k < a.R_W.size(); ++k) EXPECT_TRUE(a.R_W[k].coeffs() == b.R_W[k].coeffs()) << k;
-}
-
 }  // namespace
 }  // namespace rt
