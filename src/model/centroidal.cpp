@@ -70,9 +70,11 @@ MultibodyZmp multibody_zmp(const RobotModel& model, RobotData& data, const MatX&
   for (int f = 0; f < T; ++f) {
     const int a = std::max(f - 1, 0), b = std::min(f + 1, T - 1);
     const VecX v = b > a ? difference(model, q.col(a), q.col(b), (b - a) / fps) : VecX::Zero(model.nv());
-    const CentroidalMomentum h = centroidal_momentum(model, data, q.col(f), v);
-    com.col(f) = h.com_W;
-    L.col(f) = h.angular_com_W;
+    // L = A_L(q) v: one kinematics pass per frame (centroidal_momentum also runs MuJoCo's
+    // velocity stages).
+    update_kinematics(model, data, q.col(f));
+    com.col(f) = com_position(model, data);
+    L.col(f) = centroidal_angular_matrix(model, data) * v;
   }
   MultibodyZmp out;
   out.com_W = com;

@@ -149,13 +149,21 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
     used.assign(static_cast<std::size_t>(nv), 0);
     for (int foot = 0; foot < 2; ++foot)
       for (int d : chain(model.soles()[static_cast<std::size_t>(foot)].link)) used[static_cast<std::size_t>(d)] = 1;
+    if (zmp_on)
+      for (int f = 0; f < T; ++f) q_all.col(f) = integrate(model, q_base.col(f), D.col(f), 1.0);
     for (int f = 0; f < T; ++f) {
       auto& fr = rows_out[static_cast<std::size_t>(f)];
       fr.rows.clear();
       fr.jac.clear();
-      q = integrate(model, q_base.col(f), D.col(f), 1.0);
-      if (zmp_on) q_all.col(f) = q;
+      q = zmp_on ? VecX(q_all.col(f)) : integrate(model, q_base.col(f), D.col(f), 1.0);
       update_kinematics(model, data, q);
+      if (zmp_on) {
+        // The multibody ZMP's momenta exactly as multibody_zmp computes them: v by central
+        // differences, L = A_L(q) v.
+        const int a = std::max(f - 1, 0), b = std::min(f + 1, T - 1);
+        com_all.col(f) = com_position(model, data);
+        L_all.col(f) = centroidal_angular_matrix(model, data) * difference(model, q_all.col(a), q_all.col(b), (b - a) / o.fps);
+      }
       std::array<int, 2> skip{{-1, -1}};
       std::vector<std::pair<int, double>> min_height;
       for (int foot = 0; foot < 2; ++foot) {
@@ -240,14 +248,7 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
           used[static_cast<std::size_t>(6 + i)] = 1;
         }
     if (zmp_on) {
-      // The multibody ZMP exactly as multibody_zmp computes it (v and L̇ by central differences).
-      for (int f = 0; f < T; ++f) {
-        const int a = std::max(f - 1, 0), b = std::min(f + 1, T - 1);
-        const CentroidalMomentum h =
-            centroidal_momentum(model, data, q_all.col(f), difference(model, q_all.col(a), q_all.col(b), (b - a) / o.fps));
-        com_all.col(f) = h.com_W;
-        L_all.col(f) = h.angular_com_W;
-      }
+      // The multibody ZMP exactly as multibody_zmp computes it (c̈ and L̇ by central differences).
       for (int f = 1; f + 1 < T; ++f) {
         const std::vector<HalfPlane>& support = o.zmp_support[static_cast<std::size_t>(f)];
         if (support.empty()) continue;
