@@ -130,6 +130,8 @@ ComPlanPass::ComPlanPass() {
   table_.add("ik_iterations", options_.ik_iterations, "COM-following IK: iterations per frame", {1, 10000, ""});
   table_.add("velocity_margin", options_.velocity_margin, "fraction of each velocity limit the frame-to-frame bounds keep free");
   table_.add("foot_tolerance", options_.foot_tolerance_m, "[m] a round that moves a held sole further is dropped");
+  table_.add("max_landmark_growth", options_.max_landmark_growth_m,
+             "[m] a round or stage that grows the landmark error median more is dropped", {0, 10, "m"});
   table_.add("follow_tolerance", options_.follow_tolerance_m, "[m] frames whose COM misses the plan by more are reported");
   table_.add("whole_body_iterations", options_.whole_body_iterations,
              "Gauss-Newton iterations of the whole-body ZMP correction (0: off)", {0, 100, ""});
@@ -441,7 +443,27 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
   double best_shift = 0;
   int rounds = 0, qp_iterations = 0;
   std::string qp_trouble, round_outside;
-  int rounds_dropping_soles = 0;
+  int rounds_dropping_soles = 0, stages_dropping_landmarks = 0;
+  // Landmark error median over the clip's own frames (the lead has no source sample), the
+  // summary's metric: a result may move it by at most max_landmark_growth (the motion must stay
+  // the motion; a plan that cannot be followed closer is reported, not exported).
+  auto landmark_median = [&](const MatX& q) {
+    if (!have_landmarks) return 0.0;
+    std::vector<double> e;
+    for (int f = lead[0]; f < T - lead[1]; ++f) {
+      const double d = frame_landmark_error_m(model, data, work.targets, q.col(f), f);
+      if (std::isfinite(d)) e.push_back(d);
+    }
+    if (e.empty()) return 0.0;
+    std::nth_element(e.begin(), e.begin() + static_cast<std::ptrdiff_t>(e.size() / 2), e.end());
+    return e[e.size() / 2];
+  };
+  const double landmarks_before = landmark_median(q_in);
+  auto landmarks_held = [&](const MatX& q) {
+    const bool held = landmark_median(q) <= landmarks_before + options_.max_landmark_growth_m;
+    stages_dropping_landmarks += !held;
+    return held;
+  };
   double max_plan_violation = 0;
   lap(ms_setup);
   for (int round = 0; round < options_.iterations; ++round) {
@@ -474,7 +496,7 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
     // the ZMP; the retargeted motion itself is the first candidate.
     const bool soles_held = followed.max_foot_error_m <= options_.foot_tolerance_m;
     if (!soles_held) ++rounds_dropping_soles;
-    if (soles_held && now.better_than(best)) {
+    if (soles_held && now.better_than(best) && landmarks_held(followed.q)) {
       best = now;
       best_follow = std::move(followed);
       best_com = com_target;
@@ -578,7 +600,7 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
     const MultibodyZmp z1 = multibody_zmp(model, data, q1, fps);
     const Score before_1cm = score_zmp(frames.polygon, multibody_zmp(model, data, q0, fps).zmp_W, kZmpNear_m),
                 after_1cm = score_zmp(frames.polygon, z1.zmp_W, kZmpNear_m);
-    const bool kept = sole_move <= options_.foot_tolerance_m && after_1cm.better_than(before_1cm);
+    const bool kept = sole_move <= options_.foot_tolerance_m && after_1cm.better_than(before_1cm) && landmarks_held(q1);
     ctx.statistics.set("whole-body-zmp", after_1cm.outside, "frames",
                        format("stance frames more than 1 cm outside after the whole-body stage, %d before (%s; %d iterations, "
                               "%d rows left, worst %.3f m; sole move %.4f m)",
@@ -623,6 +645,10 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
                               unchanged && (end_speed[static_cast<std::size_t>(e)] > options_.lead_speed_mps) ? "; none kept: the pass kept nothing" : ""));
 
   if (!qp_trouble.empty()) ctx.diagnostics.warn(where, "com-plan: the ZMP plan did not converge: " + qp_trouble);
+  if (stages_dropping_landmarks > 0)
+    ctx.diagnostics.warn(where, format("com-plan: %d stage(s) dropped: following the plan would have moved the landmark error median "
+                                       "by more than %.1f cm (from %.1f cm)",
+                                       stages_dropping_landmarks, 100 * options_.max_landmark_growth_m, 100 * landmarks_before));
   if (rounds_dropping_soles > 0)
     ctx.diagnostics.warn(where, format("com-plan: %d round(s) dropped: following the plan would have moved a held sole by more "
                                        "than %.1f mm", rounds_dropping_soles, 1e3 * options_.foot_tolerance_m));
