@@ -52,11 +52,12 @@ struct ConvertOptions {
 
 // A pass's usual cost relative to the others, for the progress line's ETA only. Measured with -v:
 // refine takes 4-27x the IK time (4x on 120 Hz clips, 26x on 30 Hz LAFAN1: IK goes by source
-// frames, refine by clip time), so refine is weighted at the geometric mean, 11x; com-plan ~9x
-// refine, com-replan ~0.3x, refine-ipopt ~1x, flat-contact and ground a few % of IK.
+// frames, refine by clip time), so refine is weighted at the geometric mean, 11x; com-plan ~3x
+// refine (2x on the CMU walk, 4x on LAFAN1's dance), com-replan ~0.3x, refine-ipopt ~1x,
+// flat-contact and ground a few % of IK.
 double pass_cost(const std::string& name) {
   static const std::map<std::string, double> kCost = {{"ik", 20},    {"flat-contact", 1}, {"refine", 220},   {"refine-ipopt", 220},
-                                                      {"ground", 1}, {"com-plan", 2000},  {"com-replan", 70}};
+                                                      {"ground", 1}, {"com-plan", 660},  {"com-replan", 70}};
   const auto it = kCost.find(name);
   return it == kCost.end() ? 0.2 : it->second;
 }

@@ -105,7 +105,7 @@ Score score_zmp(const std::vector<SupportPolygon>& polygons, const Eigen::Matrix
 }  // namespace
 
 ComPlanPass::ComPlanPass() {
-  table_.add("period", options_.plan.period_s, "[s] planning grid", {0.001, 0.1, "s"});
+  table_.add("period", options_.plan.period_s, "[s] planning grid (at most the export period)", {0.001, 0.1, "s"});
   table_.add("margin", options_.margin_m, "[m] the planned ZMP keeps this far inside the support polygon");
   table_.add("ankle_reach", options_.ankle_reach, "plan the ZMP only where each ankle's effort limit holds the COP under the robot's weight");
   table_.add("com_tracking", options_.plan.com_weight, "plan: weight of |c - c_retargeted|^2 [1/m^2]");
@@ -196,8 +196,10 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
   hold_clip_ends(work, lead[0], lead[1]);
 
   const int T = motion.num_frames();
-  const double fps = motion.fps, dt = options_.plan.period_s;
-  if (!(dt > 0 && dt <= 0.1)) throw InputError("com-plan{period}", "must be in (0, 0.1] s");
+  if (!(options_.plan.period_s > 0 && options_.plan.period_s <= 0.1)) throw InputError("com-plan{period}", "must be in (0, 0.1] s");
+  // The plan is linearly interpolated to the frames: a grid coarser than them would put kinks
+  // between its samples into the frames' second differences (the ZMP).
+  const double fps = motion.fps, dt = std::min(options_.plan.period_s, 1 / fps);
   if (!(options_.margin_m >= 0 && options_.margin_m < 0.1)) throw InputError("com-plan{margin}", "must be in [0, 0.1) m");
   if (options_.iterations < 0 || options_.iterations > 20) throw InputError("com-plan{iterations}", "must be 0 to 20");
   if (options_.ik_iterations < 1 || options_.ik_iterations > 1000) throw InputError("com-plan{ik_iterations}", "must be 1 to 1000");

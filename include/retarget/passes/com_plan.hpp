@@ -49,7 +49,15 @@
 namespace rt {
 
 struct ComPlanPassOptions {
-  ZmpPlanOptions plan;                 ///< grid, tracking and jerk weights, rest at the ends
+  /// Grid, tracking and jerk weights, rest at the ends. The grid is 20 ms (the plan's own default
+  /// is 10 ms), and at most the export period: finer than the frames it is followed on, at half the
+  /// QP's size (the CMU walk's plan took a fifth of the pass at 10 ms; the ZMP fractions of the
+  /// shared gaits moved by at most 3 points either way).
+  ZmpPlanOptions plan = [] {
+    ZmpPlanOptions o;
+    o.period_s = 0.02;
+    return o;
+  }();
   /// [s] standing lead-in (lead-out) added where the clip starts (ends) moving with a foot down, so
   /// the plan can start (stop) the COM at rest without bending the first (last) step (clip_ends.hpp;
   /// the summary and meta.json `lead_in_s` / `lead_out_s` say so). It stands on the feet that end
