@@ -1,12 +1,12 @@
 #include "retarget/passes/com_plan.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <string>
 #include <utility>
 
 #include "retarget/core/error.hpp"
+#include "retarget/core/lap_timer.hpp"
 #include "retarget/core/gaussian_filter.hpp"
 #include "retarget/core/strings.hpp"
 #include "retarget/ik/landmark_ik.hpp"
@@ -165,12 +165,7 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
   if (!(options_.export_fps >= 1 && options_.export_fps <= 1000)) throw InputError("com-plan{fps}", "must be in [1, 1000] Hz");
   // Wall time per stage [ms], all rounds (the -v statistics).
   double ms_setup = 0, ms_plan = 0, ms_follow = 0, ms_zmp = 0, ms_whole_body = 0;
-  auto clock = std::chrono::steady_clock::now();
-  auto lap = [&clock](double& ms) {
-    const auto now = std::chrono::steady_clock::now();
-    ms += std::chrono::duration<double, std::milli>(now - clock).count();
-    clock = now;
-  };
+  LapTimer timer;
   // The pass works on the export grid (see the header): the clip's per-frame arrays resampled to
   // it, and moved into the clip only if the pass keeps its result.
   Clip work = resample_clip_frames(clip, options_.export_fps);
@@ -467,10 +462,10 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
     return held;
   };
   double max_plan_violation = 0;
-  lap(ms_setup);
+  timer.lap(ms_setup);
   for (int round = 0; round < options_.iterations; ++round) {
     const ZmpPlan plan = plan_com_zmp(samples, plan_options);
-    lap(ms_plan);
+    timer.lap(ms_plan);
     ++rounds;
     qp_iterations += plan.solver.iterations;
     if (plan.solver.status != SparseQpStatus::Solved && qp_trouble.empty())
@@ -484,7 +479,7 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
       zmp_plan.col(f) = at_time(plan.zmp_W, 1 / dt, f / fps);
     }
     Follow followed = follow(com_target);
-    lap(ms_follow);
+    timer.lap(ms_follow);
     const MultibodyZmp realised = multibody_zmp(model, data, followed.q, fps);
     const Score now = score(realised.zmp_W);
     {
@@ -511,7 +506,7 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
     offset = angular_part(realised, com_target);
     for (int k = 0; k < K; ++k) samples[static_cast<std::size_t>(k)].zmp_offset_W = at_time(offset, fps, k * dt);
     zero_rest_offsets();
-    lap(ms_zmp);
+    timer.lap(ms_zmp);
   }
 
   // 5. Whole-body stage: what the COM plan leaves outside (mostly the angular-momentum part the
@@ -615,7 +610,7 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
       best_zmp = z1.zmp_W;  // the exported balance reference: what the rows held
     }
   }
-  lap(ms_whole_body);
+  timer.lap(ms_whole_body);
 
   const bool unchanged = (best_follow.q - motion.q).cwiseAbs().maxCoeff() == 0;
   // The result's stance frames more than 1 cm outside (the metric's "within 1 cm", design.md §6).

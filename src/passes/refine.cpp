@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "retarget/core/error.hpp"
+#include "retarget/core/lap_timer.hpp"
 #include "retarget/core/strings.hpp"
 #include "retarget/ik/landmark_ik.hpp"
 #include "retarget/model/kinematics.hpp"
@@ -631,15 +632,10 @@ void RefinePass::run(Clip& clip, PassContext& ctx) {
   int best_violations = -1, previous_violations = velocity_before;
   // Wall time per stage [ms], all rounds (the -v statistics).
   double ms_smooth = 0, ms_project = 0, ms_metric = 0, ms_correct = 0, ms_fallback = 0;
-  auto clock = std::chrono::steady_clock::now();
-  auto lap = [&clock](double& ms) {
-    const auto now = std::chrono::steady_clock::now();
-    ms += std::chrono::duration<double, std::milli>(now - clock).count();
-    clock = now;
-  };
+  LapTimer timer;
   for (int round = 0; round < o.rounds; ++round) {
     rounds = round + 1;
-    lap(ms_fallback);  // (the speed check of the previous round)
+    timer.lap(ms_fallback);  // (the speed check of the previous round)
     active_rows = downweighted = 0;
     MatX q_smooth = smooth_motion(model, q, fps, o, speed_limit, &active_rows, &downweighted);
     if (round == 0) {  // 4. the feet's targets, shaped from the first smoothing of the IK motion
@@ -652,15 +648,15 @@ void RefinePass::run(Clip& clip, PassContext& ctx) {
     if (root_limits)
       root_rows = lower_root_to_reach(model, data, legs, plan, o.root_rise_accel > 0 ? o.root_rise_accel : 1e300,
                                       o.root_fall_accel > 0 ? o.root_fall_accel : 1e300, kReachMargin, kReachShift, o.root_max_drop_m, fps, co.lambda, q_smooth);
-    lap(ms_smooth);
+    timer.lap(ms_smooth);
     // Each frame on its own first (every row met, jittery), then smoothly over the clip from there.
     MatX q_frames(model.nq(), T);
     project(q_smooth, q_frames);
-    lap(ms_project);
+    timer.lap(ms_project);
     if (o.landmark_metric) co.metric = landmark_metric(model, data, ik, clip.targets, q_smooth, metric_dofs);
-    lap(ms_metric);
+    timer.lap(ms_metric);
     q = refine::solve_smooth_correction(model, data, q_smooth, q_frames, plan, co, &correction);
-    lap(ms_correct);
+    timer.lap(ms_correct);
     fallback_frames = fall_back(q, q_frames);
     const int violations = speed_violations(q, fps, hard_limit);
     if (best_violations < 0 || violations < best_violations) {
@@ -671,7 +667,7 @@ void RefinePass::run(Clip& clip, PassContext& ctx) {
     if (violations == 0 || 2 * violations > previous_violations) break;
     previous_violations = violations;
   }
-  lap(ms_fallback);
+  timer.lap(ms_fallback);
   q = std::move(q_best);
   fallback_frames = best_fallback_frames;
   // The limit rows of the correction are penalties: what they leave (micro-radians) is clamped.

@@ -38,6 +38,19 @@ ConvertResult convert_with_com_plan(const RobotModel& model, const std::string& 
   return run_convert(request, model);
 }
 
+// Issue 14's bars on a walk: the default pipeline's ZMP mostly outside, com-plan's within 1 cm of
+// the support on >= 98 % of the stance frames (>= 95 % in single support), the landmark median at
+// most 2 cm worse, the stance soles fixed, no limit violated.
+void expect_issue_bars(const QualityMetrics& before, const QualityMetrics& after) {
+  EXPECT_LT(before.zmp_near_fraction, 0.5);
+  EXPECT_GT(after.zmp_near_fraction, 0.98);
+  EXPECT_GT(after.zmp_single_near_fraction, 0.95);
+  EXPECT_LT(after.landmark_error_median_m, before.landmark_error_median_m + 0.02);
+  EXPECT_LE(after.foot_skating_max_m, 0.003);
+  EXPECT_EQ(after.position_limit_violations, 0);
+  EXPECT_EQ(after.velocity_limit_violations, 0);
+}
+
 const PassRecord* find_pass(const ConvertResult& r, const std::string& name) {
   for (const PassRecord& p : r.passes)
     if (p.name == name) return &p;
@@ -76,17 +89,10 @@ TEST(ComPlanPass, MovesTheZmpOfARealWalkIntoTheSupport) {
   const ConvertResult plain = convert(*model, clip, false), planned = convert(*model, clip, true);
   const QualityMetrics &before = plain.quality, &after = planned.quality;
   ASSERT_GT(after.zmp_stance_frames, 200);
-  EXPECT_LT(before.zmp_near_fraction, 0.5);
-  EXPECT_GT(after.zmp_near_fraction, 0.98);
-  EXPECT_GT(after.zmp_single_near_fraction, 0.95);
+  expect_issue_bars(before, after);
   EXPECT_EQ(after.swing_frames_low, 0);
   EXPECT_GT(after.zmp_single_near_fraction, before.zmp_single_near_fraction + 0.4);
-  // The stance feet stay fixed, the limits hold, the landmarks stay close.
-  EXPECT_LE(after.foot_skating_max_m, 0.003);
   EXPECT_LE(after.stance_height_max_m, 0.002);
-  EXPECT_EQ(after.position_limit_violations, 0);
-  EXPECT_EQ(after.velocity_limit_violations, 0);
-  EXPECT_LT(after.landmark_error_median_m, before.landmark_error_median_m + 0.02);
   const PassRecord* pass = find_pass(planned, "com-plan");
   ASSERT_NE(pass, nullptr);
   EXPECT_LT(pass->statistics.get("zmp-outside-after"), pass->statistics.get("zmp-outside-before"));
@@ -160,14 +166,9 @@ TEST(ComPlanPass, AddsAStandingLeadWhereAGaitStartsAndEndsMidStride) {
   // The issue's bars, on more frames than without the lead (fractions of different frame counts:
   // the frames outside are compared).
   const QualityMetrics &q = planned.quality, &q0 = no_lead.quality;
-  EXPECT_GT(q.zmp_near_fraction, 0.98);
-  EXPECT_GT(q.zmp_single_near_fraction, 0.95);
+  expect_issue_bars(plain.quality, q);
   EXPECT_LT((1 - q.zmp_near_fraction) * q.zmp_stance_frames, (1 - q0.zmp_near_fraction) * q0.zmp_stance_frames - 5);
-  EXPECT_LT(q.landmark_error_median_m, plain.quality.landmark_error_median_m + 0.02);
   EXPECT_LT(q.landmark_error_median_m, q0.landmark_error_median_m);
-  EXPECT_LE(q.foot_skating_max_m, 0.003);
-  EXPECT_EQ(q.position_limit_violations, 0);
-  EXPECT_EQ(q.velocity_limit_violations, 0);
 
   // The exported reference starts and ends at rest; the source's own first frame moves.
   const Reference& ref = c.reference;
@@ -232,15 +233,8 @@ TEST(ComPlanPass, PlansOnTheExportGrid) {
   EXPECT_EQ(c.reference.num_frames(), c.motion.num_frames());
   EXPECT_EQ(c.lead_in_frames, 50);
   for (std::size_t foot = 0; foot < 2; ++foot) EXPECT_EQ(c.contacts.in_contact[foot], c.reference.contact[foot]);
-  const QualityMetrics &q = planned.quality, &q0 = plain.quality;
-  EXPECT_LT(q0.zmp_near_fraction, 0.5);
-  EXPECT_GT(q.zmp_near_fraction, 0.98);
-  EXPECT_GT(q.zmp_single_near_fraction, 0.95);
-  EXPECT_LT(q.landmark_error_median_m, q0.landmark_error_median_m + 0.02);
-  EXPECT_LE(q.foot_skating_max_m, 0.003);
-  EXPECT_LE(q.stance_tilt_max_deg, 0.5);
-  EXPECT_EQ(q.position_limit_violations, 0);
-  EXPECT_EQ(q.velocity_limit_violations, 0);
+  expect_issue_bars(plain.quality, planned.quality);
+  EXPECT_LE(planned.quality.stance_tilt_max_deg, 0.5);
 }
 
 // A pass that keeps nothing (here: no round and no whole-body stage) exports the clip as it came:
