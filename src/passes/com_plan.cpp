@@ -6,8 +6,8 @@
 #include <utility>
 
 #include "retarget/core/error.hpp"
-#include "retarget/core/lap_timer.hpp"
 #include "retarget/core/gaussian_filter.hpp"
+#include "retarget/core/lap_timer.hpp"
 #include "retarget/core/strings.hpp"
 #include "retarget/ik/landmark_ik.hpp"
 #include "retarget/model/centroidal.hpp"
