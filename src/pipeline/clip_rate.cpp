@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
+#include <vector>
 
 #include "retarget/core/error.hpp"
+#include "clip_frame_arrays.hpp"
 
 namespace rt {
 
@@ -85,6 +88,30 @@ V resample_nearest(const V& v, double fps_in, double fps_out, int T_out) {
   return out;
 }
 
+// Puts each per-frame array on the new grid (clip_frame_arrays.hpp).
+struct ResampleFrames {
+  double fps_in, fps_out;
+  int T, T_out;
+  template <typename M>
+  void columns(M& m) const { m = resample_columns(m, fps_in, fps_out, T_out); }
+  void configurations(MatX& q) const { q = resample_configurations(q, fps_in, fps_out); }
+  template <typename E>
+  void entries(std::vector<E>& v) const { v = resample_nearest(v, fps_in, fps_out, T_out); }
+  void contact(std::vector<std::uint8_t>& c) const { c = resample_contact(c, fps_in, fps_out, T_out); }
+  // Positions interpolated where both neighbouring samples are valid, else the nearest frame's.
+  void track(LandmarkTrack& t) const {
+    Mat3X p(3, T_out);
+    for (int k = 0; k < T_out; ++k) {
+      const GridSample g = grid_sample(k, fps_in, fps_out, T);
+      const bool both = t.valid(g.i) && t.valid(g.j);
+      p.col(k) = both ? Vec3((1 - g.a) * t.p_W.col(g.i) + g.a * t.p_W.col(g.j)) : Vec3(t.p_W.col(g.nearest()));
+    }
+    t.p_W = std::move(p);
+    entries(t.state);
+    if (t.has_orientation) entries(t.R_W);
+  }
+};
+
 }  // namespace
 
 Clip resample_clip_frames(const Clip& clip, double fps_out) {
@@ -92,36 +119,17 @@ Clip resample_clip_frames(const Clip& clip, double fps_out) {
   const int T = m.num_frames();
   RT_DEMAND(T > 0 && m.fps > 0 && fps_out > 0, "resample_clip_frames: no robot motion or rate");
   const double fps_in = m.fps;
-  const int T_out = grid_frames(T, fps_in, fps_out);
   Clip out;
   out.name = clip.name;
   out.flat_contact_offset = clip.flat_contact_offset;
+  out.motion = m;
   out.motion.fps = fps_out;
-  out.motion.q = resample_configurations(m.q, fps_in, fps_out);
-  if (m.q_per_frame_ik.cols() == T) out.motion.q_per_frame_ik = resample_configurations(m.q_per_frame_ik, fps_in, fps_out);
-  if (m.landmark_error_m.size() == T) {
-    const Eigen::RowVectorXd e = m.landmark_error_m.transpose();
-    out.motion.landmark_error_m = resample_columns(e, fps_in, fps_out, T_out).transpose();
-  }
-  if (static_cast<int>(m.worst_landmark.size()) == T) out.motion.worst_landmark = resample_nearest(m.worst_landmark, fps_in, fps_out, T_out);
-  for (std::size_t foot = 0; foot < 2; ++foot)
-    if (static_cast<int>(clip.contacts.in_contact[foot].size()) == T)
-      out.contacts.in_contact[foot] = resample_contact(clip.contacts.in_contact[foot], fps_in, fps_out, T_out);
+  out.contacts = clip.contacts;
   out.targets = clip.targets;
-  for (LandmarkTrack& track : out.targets.tracks) {
-    if (!track.present || track.p_W.cols() != T) continue;
-    Mat3X p(3, T_out);
-    for (int k = 0; k < T_out; ++k) {
-      const GridSample g = grid_sample(k, fps_in, fps_out, T);
-      const bool both = track.valid(g.i) && track.valid(g.j);
-      p.col(k) = both ? Vec3((1 - g.a) * track.p_W.col(g.i) + g.a * track.p_W.col(g.j)) : Vec3(track.p_W.col(g.nearest()));
-    }
-    track.p_W = std::move(p);
-    track.state = resample_nearest(track.state, fps_in, fps_out, T_out);
-    if (track.has_orientation) track.R_W = resample_nearest(track.R_W, fps_in, fps_out, T_out);
-  }
-  if (clip.com_replanned_W.cols() == T) out.com_replanned_W = resample_columns(clip.com_replanned_W, fps_in, fps_out, T_out);
-  if (clip.cop_predicted_W.cols() == T) out.cop_predicted_W = resample_columns(clip.cop_predicted_W, fps_in, fps_out, T_out);
+  out.com_replanned_W = clip.com_replanned_W;
+  out.cop_predicted_W = clip.cop_predicted_W;
+  ResampleFrames resample{fps_in, fps_out, T, grid_frames(T, fps_in, fps_out)};
+  detail::each_frame_array(out, resample);
   out.lead_in_frames = static_cast<int>(std::lround(clip.lead_in_frames / fps_in * fps_out));
   out.lead_out_frames = static_cast<int>(std::lround(clip.lead_out_frames / fps_in * fps_out));
   return out;
