@@ -312,9 +312,13 @@ std::string format_check_summary(const DynamicsCheckResult& r, const ReportInfo&
                 w.replans, w.replans == 1 ? "" : "s", w.foothold_adjustments, w.foothold_adjustments == 1 ? "" : "s",
                 w.max_foothold_change_m * 1e3, w.cop_clamped_fraction * 100, w.max_dcm_error_m * 1e3);
     if (w.lead_in_foot >= 0)
-      s += format("  lead-in     the clip starts with the %s foot %.0f mm in the air: it was put down and lifted into "
+      s += format("  lead-in     the clip starts with the %s foot %.0f mm in the air: it was put down%s and lifted into "
                   "the first frame over %.2f s before t = 0\n",
-                  w.lead_in_foot == 0 ? "left" : "right", w.lead_in_foot_height_m * 1e3, w.lead_in_s);
+                  w.lead_in_foot == 0 ? "left" : "right", w.lead_in_foot_height_m * 1e3,
+                  w.lead_in_root_drop_m > 5e-4 ? format(" (the root lowered %.0f mm for it)", w.lead_in_root_drop_m * 1e3).c_str() : "",
+                  w.lead_in_s);
+    else if (!w.lead_in_skipped.empty())
+      s += format("  lead-in     none: %s; the clip starts on one foot\n", w.lead_in_skipped.c_str());
   }
   if (!r.replans.empty()) {
     const std::vector<report_detail::ReplanBurst> bursts = report_detail::replan_bursts(r.replans);
@@ -422,7 +426,9 @@ std::string check_report_json(const DynamicsCheckResult& r, const ReportInfo& in
                              {"early_touchdown_cycles", w.early_touchdown_cycles},
                              {"max_dcm_error_m", rounded(w.max_dcm_error_m)},
                              {"lead_in_s", rounded(w.lead_in_s)},
-                             {"lead_in_foot", w.lead_in_foot < 0 ? Json(nullptr) : Json(w.lead_in_foot == 0 ? "left" : "right")}};
+                             {"lead_in_foot", w.lead_in_foot < 0 ? Json(nullptr) : Json(w.lead_in_foot == 0 ? "left" : "right")},
+                             {"lead_in_root_drop_m", rounded(w.lead_in_root_drop_m)},
+                             {"lead_in_skipped", w.lead_in_skipped.empty() ? Json(nullptr) : Json(w.lead_in_skipped)}};
   }
   Json rp = Json::array();
   for (const ReplanRecord& p : r.replans)

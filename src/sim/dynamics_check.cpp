@@ -65,8 +65,11 @@ DynamicsCheckResult run_dynamics_check(const RobotModel& model, const Reference&
   const auto wall0 = std::chrono::steady_clock::now();
   RobotData ref_data(model), ctrl_data(model);
   // The walking controller starts a clip that begins mid-step from a standing lead-in.
-  const LeadIn lead_in = o.controller == CheckControllerKind::Walking ? standing_lead_in(model, reference, o.walking.lead_in_lift_s)
-                                                                      : LeadIn{reference};
+  LeadIn lead_in;
+  if (o.controller == CheckControllerKind::Walking)
+    lead_in = standing_lead_in(model, reference, o.walking.lead_in);
+  else
+    lead_in.reference = reference;
   const ReferenceSignal signal(model, ref_data, lead_in.reference, o.com_smoothing_s);
   const double lead_s = lead_in.duration_s;
   const double clip_duration = signal.duration_s() - lead_s;
@@ -98,6 +101,8 @@ DynamicsCheckResult run_dynamics_check(const RobotModel& model, const Reference&
     res.walking.lead_in_s = lead_s;
     res.walking.lead_in_foot = lead_in.foot;
     res.walking.lead_in_foot_height_m = lead_in.foot_height_m;
+    res.walking.lead_in_root_drop_m = lead_in.root_drop_m;
+    res.walking.lead_in_skipped = lead_in.skipped;
     const double t_shift = std::max(0.0, plan.max_shift_time_s - lead_s);
     if (plan.max_shift_m > o.walking.plan.max_shift_m)
       monitor.violations().push_back({ViolationKind::HeavyCorrection, t_shift, t_shift, plan.max_shift_m, "m",

@@ -12,9 +12,11 @@ namespace rt {
 std::vector<Violation> stance_off_floor(const ReferenceSignal& signal, double lead_s, double tolerance_m) {
   const auto& soles = signal.soles_W();
   const auto& contacts = signal.contacts();
+  // The standing lead-in is the check's own motion, not the reference's: judged from frame 0 on.
+  const std::size_t first = static_cast<std::size_t>(std::max(0L, std::lround(lead_s * signal.fps())));
   std::vector<double> heights;
   for (std::size_t f = 0; f < 2; ++f)
-    for (std::size_t k = 0; k < contacts[f].size(); ++k)
+    for (std::size_t k = first; k < contacts[f].size(); ++k)
       if (contacts[f][k]) heights.push_back(soles[f][k].translation().z());
   std::vector<Violation> out;
   if (heights.empty()) return out;
@@ -25,7 +27,7 @@ std::vector<Violation> stance_off_floor(const ReferenceSignal& signal, double le
   for (std::size_t f = 0; f < 2; ++f) {
     ViolationTracker tracker(ViolationKind::StanceOffFloor, "m", 0.0);
     const std::size_t T = contacts[f].size();
-    for (std::size_t k = 0; k < T; ++k) {
+    for (std::size_t k = first; k < T; ++k) {
       const double t = static_cast<double>(k) / signal.fps() - lead_s;
       const double dz = soles[f][k].translation().z() - floor_z;
       const bool off = contacts[f][k] && std::abs(dz) > tolerance_m;

@@ -32,6 +32,12 @@
 ///       {"t_s": 0.5, "kind": 1, "n": 37, "predicted_cop_w": [0.01, -0.02], "ref_cop_w": [0.01, 0.05],
 ///        "after_cop_w": [0.01, 0.049], "max_shift_m": 0.031}
 ///     ],
+///     "balance_plan": {                                  // walking controller only (DynamicsCheckResult::walking)
+///       "max_com_shift_m": 0.05, ..., "max_dcm_error_m": 0.03,
+///       "lead_in_s": 0.3, "lead_in_foot": "left",        // standing lead-in; foot null when none
+///       "lead_in_root_drop_m": 0.0,                      // root lowered so the foot reached the floor
+///       "lead_in_skipped": null                          // why a clip starting on one foot got none
+///     },
 ///     "trace": {                                         // recorded time series, column-wise
 ///       "source_samples": 500, "stride": 1, "samples": 500,
 ///       "t_s": [...],                                    // clip time [s]

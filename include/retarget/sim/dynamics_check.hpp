@@ -174,11 +174,14 @@ struct DynamicsCheckResult {
     double cop_clamped_fraction = 0; ///< of control cycles: the DCM law asked for a COP outside the support
     long early_touchdown_cycles = 0; ///< control cycles with a swing foot treated as landed early
     double max_dcm_error_m = 0;
-    /// Standing lead-in before the clip (lead_in.hpp): its duration, the foot put down (−1: none)
-    /// and how high that foot was at frame 0.
+    /// Standing lead-in before the clip (lead_in.hpp): its duration, the foot put down (−1: none),
+    /// how high that foot was at frame 0, how far the root was lowered to reach the floor, and
+    /// why none was added to a clip that starts on one foot (empty otherwise).
     double lead_in_s = 0;
     int lead_in_foot = -1;
     double lead_in_foot_height_m = 0;
+    double lead_in_root_drop_m = 0;
+    std::string lead_in_skipped;
   } walking;
   DynamicsTrace trace;
 };

@@ -19,7 +19,7 @@ class RobotModel;
 /// centre more than `tolerance_m` above or below the reference's own floor, the median height of
 /// all its labelled stance sole centres (so that a reference exported over a floor at another
 /// constant height is not charged for it). Times are clip times: frame time minus `lead_s` (the
-/// standing lead-in prepended to the signal).
+/// standing lead-in prepended to the signal, the check's own motion: its frames are not judged).
 std::vector<Violation> stance_off_floor(const ReferenceSignal& signal, double lead_s, double tolerance_m);
 
 /// `joint-velocity` violations of the reference itself: spans of frames where it moves a joint

@@ -38,6 +38,7 @@
 #include "retarget/model/ankle_reach.hpp"
 #include "retarget/sim/balance_plan.hpp"
 #include "retarget/sim/check_controller.hpp"
+#include "retarget/sim/lead_in.hpp"
 
 namespace rt {
 
@@ -45,9 +46,8 @@ struct DynamicsCheckOptions;
 
 struct WalkingControllerOptions {
   BalancePlanOptions plan;          ///< whole-clip plan before the simulation
-  /// [s] a clip that starts with one foot in the air gets a standing lead-in (lead_in.hpp) that
-  /// lifts that foot into frame 0 over this time.
-  double lead_in_lift_s = 0.3;
+  /// A clip that starts with one foot in the air gets a standing lead-in (lead_in.hpp).
+  LeadInOptions lead_in;
   double dcm_gain = 3.0;            ///< k_ξ [1/s]: DCM error decay rate
   double cop_clamp_margin_m = 0.005;///< [m] the commanded COP stays this far inside the loaded support
   /// The loaded support is made of the soles' ankle reach (ankle_reach.hpp) rather than the whole

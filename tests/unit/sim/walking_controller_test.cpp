@@ -8,22 +8,46 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <string>
 
 #include "retarget/core/strings.hpp"
 #include "retarget/ik/landmark_ik.hpp"
 #include "retarget/model/kinematics.hpp"
 #include "retarget/model/robot_model.hpp"
+#include "retarget/model/sole_geometry.hpp"
 #include "retarget/reference/robot_mapping.hpp"
 #include "retarget/reference/synthetic_references.hpp"
 #include "retarget/sim/balance_plan.hpp"
 #include "retarget/sim/dynamics_check.hpp"
 #include "retarget/sim/lead_in.hpp"
+#include "retarget/sim/reference_consistency.hpp"
 #include "retarget/sim/reference_signal.hpp"
 #include "support/test_paths.hpp"
 
 namespace rt {
 namespace {
+
+// Per foot at q: the lowest sole corner's height and the spread of its four corners' heights [m].
+struct SoleCornerHeights {
+  std::array<double, 2> lowest_m{}, spread_m{};
+};
+SoleCornerHeights sole_corner_heights(const RobotModel& model, const VecX& q) {
+  SoleCornerHeights out;
+  RobotData data(model);
+  const std::array<Mat3, 2> R_L_sole = sole_frames_in_links(model, data);
+  update_kinematics(model, data, q);
+  for (std::size_t f = 0; f < 2; ++f) {
+    double lo = 1e9, hi = -1e9;
+    for (const Vec3& c : sole_corners_W(sole_frame_W(model, data, static_cast<int>(f), R_L_sole[f]), model.soles()[f])) {
+      lo = std::min(lo, c.z());
+      hi = std::max(hi, c.z());
+    }
+    out.lowest_m[f] = lo;
+    out.spread_m[f] = hi - lo;
+  }
+  return out;
+}
 
 std::unique_ptr<RobotModel> load_robot(const std::string& name) {
   if (name == "g1" && test::shared_data("robots").empty()) return nullptr;
@@ -332,7 +356,7 @@ TEST(LeadIn, PutsTheAirborneFootDownBeforeTheClip) {
     ref.contact[static_cast<std::size_t>(f)].assign(whole.contact[static_cast<std::size_t>(f)].begin() + k0,
                                                     whole.contact[static_cast<std::size_t>(f)].end());
   ASSERT_EQ(ref.contact[1][0], 0);
-  const LeadIn li = standing_lead_in(*model, ref, 0.3);
+  const LeadIn li = standing_lead_in(*model, ref);
   ASSERT_EQ(li.foot, 1);
   EXPECT_NEAR(li.foot_height_m, 0.05, 0.01);
   EXPECT_EQ(li.frames, 30);
@@ -340,13 +364,70 @@ TEST(LeadIn, PutsTheAirborneFootDownBeforeTheClip) {
   EXPECT_EQ(li.reference.contact[1][0], 1);
   EXPECT_EQ(li.reference.contact[0][0], 1);
   EXPECT_EQ(li.reference.contact[1][static_cast<std::size_t>(li.frames)], 0);
-  RobotData data(*model);
+  EXPECT_TRUE(li.skipped.empty());
+  EXPECT_EQ(li.root_drop_m, 0);  // the bent leg reaches the floor by itself
   const ReferenceRobotMap map(*model, li.reference, "test");
-  update_kinematics(*model, data, map.q(li.reference, 0));
-  EXPECT_NEAR(lowest_sole_corner_z(*model, data, 1), lowest_sole_corner_z(*model, data, 0), 0.005);
+  const SoleCornerHeights h = sole_corner_heights(*model, map.q(li.reference, 0));
+  EXPECT_LT(h.spread_m[1], 0.002) << "the put-down sole is not flat";
+  EXPECT_NEAR(h.lowest_m[1], h.lowest_m[0], 0.002);
   EXPECT_TRUE(li.reference.joint_pos.rightCols(ref.num_frames()).isApprox(ref.joint_pos));
+  EXPECT_TRUE(li.reference.root_pos_W.rightCols(ref.num_frames()).isApprox(ref.root_pos_W));
   // None when frame 0 has both feet down.
-  EXPECT_EQ(standing_lead_in(*model, walk_reference(*model), 0.3).frames, 0);
+  EXPECT_EQ(standing_lead_in(*model, walk_reference(*model)).frames, 0);
+}
+
+// The standing lead-in is the check's own motion: `stance-off-floor` judges the clip's frames only.
+// The same frames, raised 0.1 m while labelled down, are charged when they are the clip's.
+TEST(LeadIn, ItsFramesAreNotChargedToTheReference) {
+  const auto model = RobotModel::load(test::source_path("robots/humanoid25"));
+  RobotData data(*model);
+  Reference ref = walk_reference(*model);
+  const int n = 10;
+  for (int k = 0; k < n; ++k) ref.root_pos_W(2, k) += 0.1;
+  const ReferenceSignal signal(*model, data, ref);
+  const double lead_s = n / ref.fps;
+  EXPECT_TRUE(stance_off_floor(signal, lead_s, 0.05).empty());
+  const std::vector<Violation> charged = stance_off_floor(signal, 0, 0.05);
+  ASSERT_FALSE(charged.empty());
+  EXPECT_NEAR(charged.front().magnitude, 0.1, 0.01);
+  EXPECT_LT(charged.front().start_s, lead_s);
+}
+
+// Frame 0 on a straight stance leg with the other leg straight too, lifted by its hip: no knee
+// bend of the free leg reaches the floor below its foot, so the root lowers (and the stance knee,
+// straight where the root's height does not change with it to first order, bends). A leg spread
+// sideways to its hip-roll limit cannot put its sole flat at all: no lead-in, and the reason.
+TEST(LeadIn, LowersTheRootWhereTheLegsCannotReachAndSaysWhenNothingCan) {
+  const auto model = RobotModel::load(test::source_path("robots/humanoid25"));
+  const auto one_leg_up = [&](const char* joint, double angle) {
+    VecX q = model->standing_q();
+    q.tail(model->nu()).setZero();  // straight legs
+    q[model->joints()[static_cast<std::size_t>(model->joint_index(joint))].qpos_index] = angle;
+    Reference ref = constant_reference(*model, q, 1.0, 30);
+    ref.contact[1].assign(ref.contact[1].size(), 0);  // the right foot in the air
+    return ref;
+  };
+
+  const Reference forward = one_leg_up("r_hip_pitch", -0.5);
+  const LeadIn li = standing_lead_in(*model, forward);
+  ASSERT_EQ(li.foot, 1) << li.skipped;
+  EXPECT_GT(li.foot_height_m, 0.02);
+  EXPECT_GT(li.root_drop_m, 0.01);
+  const ReferenceRobotMap map(*model, li.reference, "test");
+  const SoleCornerHeights before = sole_corner_heights(*model, map.q(forward, 0));
+  const SoleCornerHeights down = sole_corner_heights(*model, map.q(li.reference, 0));
+  EXPECT_LT(down.spread_m[1], 0.002);
+  EXPECT_NEAR(down.lowest_m[1], before.lowest_m[0], 0.002) << "the right sole is not on the floor";
+  EXPECT_NEAR(down.lowest_m[0], before.lowest_m[0], 0.002) << "the stance sole moved";
+  // Lifted back into frame 0 by the clip's start, root included.
+  EXPECT_TRUE(map.q(li.reference, li.frames).isApprox(map.q(forward, 0)));
+
+  const Reference spread = one_leg_up("r_hip_roll", -0.8);
+  const LeadIn none = standing_lead_in(*model, spread);
+  EXPECT_EQ(none.foot, -1);
+  EXPECT_EQ(none.frames, 0);
+  EXPECT_NE(none.skipped.find("cannot put the right foot down flat"), std::string::npos) << none.skipped;
+  EXPECT_EQ(none.reference.num_frames(), spread.num_frames());
 }
 
 }  // namespace
