@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "retarget/core/error.hpp"
 #include "retarget/core/smoothstep.hpp"
 #include "retarget/core/strings.hpp"
 #include "retarget/ik/landmark_ik.hpp"
@@ -15,6 +16,7 @@
 namespace rt {
 
 LeadIn standing_lead_in(const RobotModel& model, const Reference& ref, const LeadInOptions& o) {
+  RT_DEMAND(o.max_root_accel_mps2 > 0 && o.max_corner_miss_m >= 0, "standing_lead_in: bad options");
   LeadIn out;
   out.reference = ref;
   if (!ref.has_contacts() || ref.num_frames() < 2 || !(o.lift_s > 0)) return out;
@@ -105,7 +107,7 @@ LeadIn standing_lead_in(const RobotModel& model, const Reference& ref, const Lea
   const int n_lift_s = std::max(2, static_cast<int>(std::lround(o.lift_s * fps)));
   const double down = 0.4 * n_lift_s;  // [frames] held down, then lifted over `lift` frames
   // A smoothstep over a duration D peaks at 6 h / D² for a rise of h.
-  const double lift = std::max(0.6 * n_lift_s, std::sqrt(6 * out.root_drop_m / o.max_root_accel_mps2) * fps);
+  const double lift = std::max(0.6 * n_lift_s, std::sqrt(6 * std::abs(out.root_drop_m) / o.max_root_accel_mps2) * fps);
   const int n = std::max(n_lift_s, static_cast<int>(std::ceil(down + lift)));
   const int T = ref.num_frames();
   Reference& r = out.reference;

@@ -22,7 +22,7 @@ struct LeadIn {
   int foot = -1;         ///< the foot put down (0 left, 1 right), −1 when none was needed
   double foot_height_m = 0;  ///< how high that foot was above the floor at frame 0
   double root_drop_m = 0;    ///< how far the root was lowered to put it down (0: the legs reached)
-  std::string skipped;       ///< why no lead-in was added although `foot` is in the air (else empty)
+  std::string skipped;       ///< why no lead-in was added to a clip that starts on one foot (else empty)
 };
 
 struct LeadInOptions {
