@@ -11,9 +11,10 @@
 // 0.5 s one, which passes more over the shared walks, the com-plan references and the robustness
 // variants (20 of 64 runs against 9; walking_controller.hpp); since the standing lead-in puts the
 // airborne foot down for real (lead_in.hpp: on G1's Bandai walk a sole corner had stayed 13 mm off
-// the floor, the foot labelled down) it passes at 0.87x. CMU 131_01 and PyMO fail at every speed down to 0.25x on
-// both robots, and so does G1's GAMES-105: the balance plan needs COM shifts of 5-13 cm for them
-// (issue 14), and the robot falls within a few steps (issue 15 is open). So what is pinned:
+// the floor, the foot labelled down) it passes at 0.87x. CMU 131_01 and PyMO fail at every speed
+// down to 0.25x on both robots, and so does G1's GAMES-105: the balance plan needs COM shifts of
+// 5-13 cm for them (issue 14), and the robot falls within a few steps (issue 15 is open). So what
+// is pinned:
 // humanoid25's Bandai walk and GAMES-105 pass at 1x; G1's Bandai walk fails at 1x and passes at a
 // speed between 0.67x and 1x (`passes_slower`); every other pair fails at 1x with its first failing
 // violation in the first 6 s of the clip, and --find-speed finds no passing speed for it.
