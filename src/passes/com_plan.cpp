@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <utility>
 
@@ -13,6 +14,7 @@
 #include "retarget/model/centroidal.hpp"
 #include "retarget/model/kinematics.hpp"
 #include "retarget/model/robot_model.hpp"
+#include "retarget/model/sole_geometry.hpp"
 #include "retarget/passes/ik_pass.hpp"
 #include "retarget/passes/quality.hpp"
 #include "retarget/passes/stance_support.hpp"
@@ -25,6 +27,23 @@
 namespace rt {
 
 namespace {
+
+// How far a swing sole's target pose (7-vector: position, quaternion w x y z) must rise so that
+// neither its centre nor its lowest corner is lower than in the pose it came from (by a millimetre
+// more, the IK's following error): the low-pass also tilts the sole (toe-off, heel strike), which
+// lowers a corner while the centre stays up, and refine kept the corners clear of the floor.
+double raise_to_clear(const VecX& target, const VecX& original, const Sole& sole) {
+  constexpr double kFollowSlack_m = 0.001;
+  auto lowest_corner = [&](const VecX& pose) {
+    Iso3 X = Iso3::Identity();
+    X.translation() = pose.head<3>();
+    X.linear() = Quat(pose(3), pose(4), pose(5), pose(6)).normalized().toRotationMatrix();
+    double z = std::numeric_limits<double>::infinity();
+    for (const Vec3& c : sole_corners_W(X, sole)) z = std::min(z, c.z());
+    return z;
+  };
+  return std::max(original(2) - target(2), lowest_corner(original) + kFollowSlack_m - lowest_corner(target));
+}
 
 // Column of a per-frame signal at time t [s] (linear interpolation, clamped to the clip).
 template <class M>
@@ -268,13 +287,16 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
           held.col(f) = low.col(f) - (1 - w) * d_a - w * d_b;
           // Never lower than the sole was: the low-pass rounds the swing's peak and its ends, where
           // refine kept the floor clearance.
-          held(2, f) = std::max(held(2, f), sole_pose[k](2, f));
+          held(2, f) += std::max(0.0, raise_to_clear(held.col(f), sole_pose[k].col(f), model.soles()[k]));
         }
         // ... and the kinks of that max rounded off again (a third of the low-pass, within the swing,
-        // whose ends are the stance heights).
+        // whose ends are the stance heights), which can dip below the bound where it bent, so the
+        // bound is applied once more.
         if (a > 0 && b + 1 < T) {
           const MatX z = gaussian_filter(held.block(2, a - 1, 1, b - a + 3), options_.swing_smoothing_s * fps / 3);
           held.block(2, a, 1, b - a + 1) = z.middleCols(1, b - a + 1);
+          for (int f = a; f <= b; ++f)
+            held(2, f) += std::max(0.0, raise_to_clear(held.col(f), sole_pose[k].col(f), model.soles()[k]));
         }
         a = b + 1;
       }
@@ -462,6 +484,23 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
     stages_dropping_landmarks += !held;
     return held;
   };
+  // Per foot and frame, the height of the sole's lowest corner where it swings (+inf in stance).
+  auto lowest_swing_corners = [&](const MatX& q) {
+    std::array<std::vector<double>, 2> z;
+    for (auto& v : z) v.assign(static_cast<std::size_t>(T), std::numeric_limits<double>::infinity());
+    if (!labelled) return z;
+    for (int f = 0; f < T; ++f) {
+      const auto fi = static_cast<std::size_t>(f);
+      if (work.contacts.in_contact[0][fi] && work.contacts.in_contact[1][fi]) continue;
+      update_kinematics(model, data, q.col(f));
+      for (std::size_t foot = 0; foot < 2; ++foot) {
+        if (work.contacts.in_contact[foot][fi]) continue;
+        const Iso3 X = sole_frame_W(model, data, static_cast<int>(foot), R_L_sole[foot]);
+        for (const Vec3& c : sole_corners_W(X, model.soles()[foot])) z[foot][fi] = std::min(z[foot][fi], c.z());
+      }
+    }
+    return z;
+  };
   double max_plan_violation = 0;
   timer.lap(ms_setup);
   for (int round = 0; round < options_.iterations; ++round) {
@@ -550,11 +589,18 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
     co.zmp_rest_start = options_.plan.rest_at_start;
     co.zmp_rest_end = options_.plan.rest_at_end;
     MatX q1 = refine::solve_smooth_correction(model, data, q0, q0, feet, co, &whole_body);
-    // The limit, speed and stance rows are penalties: joints are clamped into their limits, and
-    // where a ZMP row pulled harder than a stance row (or a clamp moved a leg) the frame is projected
-    // back onto its held soles by the smallest change (each joint within ±0.05 rad, so no leg
-    // changes branch within a frame); last, each joint's step is cut to its speed limit (a joint
-    // beyond it rejoins its trajectory as fast as the limit allows).
+    // The limit, speed, stance and swing rows are penalties: joints are clamped into their limits,
+    // and where a ZMP row pulled harder than a stance row (or a clamp moved a leg) the frame is
+    // projected back onto its held soles by the smallest change (each joint within ±0.05 rad, so no
+    // leg changes branch within a frame), a swing sole that came down too low (below
+    // `swing_floor_at`) back onto its path; last, each joint's step is cut to its speed limit (a
+    // joint beyond it rejoins its trajectory as fast as the limit allows).
+    const std::array<std::vector<double>, 2> swing_floor = lowest_swing_corners(q0);
+    auto swing_floor_at = [&](std::size_t foot, std::size_t f) {
+      // The swing clearance where the sole was above it, else foot_tolerance under where it was.
+      const double z0 = swing_floor[foot][f];
+      return z0 >= kSwingClearance_m ? kSwingClearance_m : z0 - options_.foot_tolerance_m;
+    };
     for (int i = 0; i < model.nu(); ++i) q1.row(7 + i) = q1.row(7 + i).cwiseMax(model.q_lower()[i]).cwiseMin(model.q_upper()[i]);
     {
       IkOptions po;
@@ -569,13 +615,26 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
         update_kinematics(model, data, q1.col(f));
         held.clear();
         double off = 0;
+        bool swing_low = false;
         for (std::size_t foot = 0; foot < 2; ++foot) {
-          if (labelled && !work.contacts.in_contact[foot][static_cast<std::size_t>(f)]) continue;
           const IkTarget& t = frames.soles[static_cast<std::size_t>(f)][foot];
+          if (labelled && !work.contacts.in_contact[foot][static_cast<std::size_t>(f)]) {
+            const Iso3 X = sole_frame_W(model, data, static_cast<int>(foot), R_L_sole[foot]);
+            double z = std::numeric_limits<double>::infinity();
+            for (const Vec3& c : sole_corners_W(X, model.soles()[foot])) z = std::min(z, c.z());
+            const double dip = swing_floor_at(foot, static_cast<std::size_t>(f)) - z;
+            if (dip <= 0) continue;
+            IkTarget lifted = t;  // the sole as the stage left it, raised onto its floor
+            lifted.p_W = X.translation() + Vec3(0, 0, dip + 1e-4);
+            lifted.R_W = Quat(X.linear());
+            held.push_back(lifted);
+            swing_low = true;
+            continue;
+          }
           off = std::max(off, (link_point(model, data, t.link, t.p_L) - t.p_W).norm());
           held.push_back(t);
         }
-        if (off <= 2e-4) continue;
+        if (off <= 2e-4 && !swing_low) continue;
         step.lower = (q1.col(f).tail(model.nu()).array() - 0.05).cwiseMax(model.q_lower().array());
         step.upper = (q1.col(f).tail(model.nu()).array() + 0.05).cwiseMin(model.q_upper().array());
         VecX q = q1.col(f);
@@ -588,7 +647,8 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
       const double step = (1 - options_.velocity_margin) * v_max[i] / fps;
       for (int f = 1; f < T; ++f) q1(7 + i, f) = std::clamp(q1(7 + i, f), q1(7 + i, f - 1) - step, q1(7 + i, f - 1) + step);
     }
-    double sole_move = 0;
+    // How far a stance sole moved, and how far a swing sole's lowest corner is below its floor.
+    double sole_move = 0, swing_dip = 0;
     for (int f = 0; f < T; ++f) {
       update_kinematics(model, data, q1.col(f));
       for (std::size_t foot = 0; foot < 2; ++foot)
@@ -596,15 +656,19 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
           sole_move = std::max(sole_move, (link_point(model, data, model.soles()[foot].link, model.soles()[foot].p_L_center) -
                                            frames.soles[static_cast<std::size_t>(f)][foot].p_W).norm());
     }
+    const std::array<std::vector<double>, 2> swing_now = lowest_swing_corners(q1);
+    for (std::size_t foot = 0; foot < 2; ++foot)
+      for (std::size_t f = 0; f < swing_now[foot].size(); ++f)
+        swing_dip = std::max(swing_dip, swing_floor_at(foot, f) - swing_now[foot][f]);
     const MultibodyZmp z1 = multibody_zmp(model, data, q1, fps);
     const Score before_1cm = score_zmp(frames.polygon, best_realised, kZmpNear_m),
                 after_1cm = score_zmp(frames.polygon, z1.zmp_W, kZmpNear_m);
-    const bool kept = sole_move <= options_.foot_tolerance_m && after_1cm.better_than(before_1cm) && landmarks_held(q1);
+    const bool kept = sole_move <= options_.foot_tolerance_m && swing_dip <= 0 && after_1cm.better_than(before_1cm) && landmarks_held(q1);
     ctx.statistics.set("whole-body-zmp", after_1cm.outside, "frames",
                        format("stance frames more than 1 cm outside after the whole-body stage, %d before (%s; %d iterations, "
-                              "%d rows left, worst %.3f m; sole move %.4f m)",
+                              "%d rows left, worst %.3f m; sole move %.4f m, swing sole %.4f m too low)",
                               before_1cm.outside, kept ? "kept" : "dropped", whole_body.iterations, whole_body.zmp_rows,
-                              whole_body.zmp_excess_max, sole_move));
+                              whole_body.zmp_excess_max, sole_move, std::max(0.0, swing_dip)));
     if (kept) {
       best_follow.q = std::move(q1);
       best = score(z1.zmp_W);

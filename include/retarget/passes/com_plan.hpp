@@ -85,7 +85,7 @@ struct ComPlanPassOptions {
   double posture_regularization = 1.0;
   int ik_iterations = 20;
   double velocity_margin = 0.02;       ///< fraction of each URDF velocity limit the frame-to-frame bounds keep free
-  double foot_tolerance_m = 0.002;     ///< [m] a round whose IK moves a held sole further is dropped
+  double foot_tolerance_m = 0.001;     ///< [m] a round whose IK moves a held sole further is dropped (issue 13's stance drift bar)
   /// [m] a round or the whole-body stage that grows the landmark error median (over the clip's own
   /// frames, the summary's metric) by more is dropped: a plan followed only by distorting the
   /// motion is reported (a warning), not exported (H1, whose legs lack an ankle roll, once moved
