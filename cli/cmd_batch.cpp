@@ -13,12 +13,12 @@
 
 #include "cli/command.hpp"
 #include "cli/exit_codes.hpp"
+#include "cli/pass_flags.hpp"
 #include "cli/numeric_option.hpp"
 #include "retarget/batch/batch_runner.hpp"
 #include "retarget/batch/worker_process.hpp"
 #include "retarget/core/error.hpp"
 #include "retarget/core/strings.hpp"
-#include "retarget/passes/registry.hpp"
 #include "cli/view_page.hpp"
 
 namespace rt::cli {
@@ -141,13 +141,7 @@ Command setup_batch(CLI::App& parent) {
       ->check(bounded(kMinFrameRate_hz, kMaxOutputFrameRate_hz, "Hz"))
       ->group(g);
   app->add_option("--passes", b.convert.passes, "Pipeline to run instead of the default")->group(g);
-  for (const PassInfo& info : builtin_passes())
-    (info.in_default_pipeline
-         ? app->add_flag_callback("--no-" + info.name, [o, name = info.name] { o->disabled.push_back(name); },
-                                  "Skip the " + info.name + " pass")
-         : app->add_flag_callback("--" + info.name, [o, name = info.name] { o->enabled.push_back(name); },
-                                  "Also run the " + info.name + " pass (not in the default pipeline)"))
-        ->group("Passes");
+  add_pass_flags(app, &o->enabled, &o->disabled);
   app->add_option("--time-scale", b.convert.time_scale, "Play every clip S times slower (S > 1) or faster")
       ->default_val(1.0)
       ->check(bounded(0.05, 20.0, ""))

@@ -8,6 +8,7 @@
 #include "cli/command.hpp"
 #include "cli/exit_codes.hpp"
 #include "cli/numeric_option.hpp"
+#include "cli/pass_flags.hpp"
 #include "cli/check_options.hpp"
 #include "cli/print_check.hpp"
 #include "cli/progress_line.hpp"
@@ -157,14 +158,7 @@ Command setup_convert(CLI::App& parent) {
       ->check(bounded(kMinFrameRate_hz, kMaxOutputFrameRate_hz, "Hz"));
   app->add_option("--passes", o->request.passes,
                   "Pipeline to run instead of the default, e.g. 'scale,ik{max_iterations=80},label-contacts,resample'");
-  for (const PassInfo& info : builtin_passes()) {
-    auto* flag = info.in_default_pipeline
-                     ? app->add_flag_callback("--no-" + info.name, [o, name = info.name] { o->disabled.push_back(name); },
-                                              "Skip the " + info.name + " pass")
-                     : app->add_flag_callback("--" + info.name, [o, name = info.name] { o->enabled.push_back(name); },
-                                              "Also run the " + info.name + " pass (not in the default pipeline)");
-    flag->group("Passes");
-  }
+  add_pass_flags(app, &o->enabled, &o->disabled);
   app->add_flag("--list-passes", o->list_passes, "List the passes with their options and defaults, then exit");
   app->add_option("--source-units", o->source_units, "Override the detected source units: m, cm, mm, inch, cmu or metres per unit");
   app->add_option("--source-fps", o->source_fps, "Override the source frame rate [Hz]")
