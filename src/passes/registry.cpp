@@ -28,14 +28,11 @@ const PassRegistry& builtin_passes() {
       info<RetimePass>(),      info<ScalePass>(),         info<LabelContactsPass>(), info<IkPass>(), info<FlatContactPass>(), info<RefinePass>(),
       info<RefineIpoptPass>(false),  // ablation: the former refine (stance only at its knots, 5-20x slower)
       info<GroundPass>(),
-      // com-plan (--com-plan): a whole-clip COM plan over the known footsteps instead of the paper's
-      // windowed closed form (com-replan, which clips its shifts to 5 cm and left the ZMP of real
-      // walks outside the soles). Opt-in for now: on the shared gaits (G1) it takes the exported ZMP
-      // from 2-38 % to 41-98 % of stance frames within 1 cm of the support (README), short of the
-      // 98 % bar, at up to +5 cm landmark error, 2-4 s per 1000 source frames (the default
-      // pipeline's speed targets would not hold), and low-passed swing soles that come near the floor. com-replan stays for ablation (run after com-plan it
-      // overwrites the planned COM with its own).
-      info<ComPlanPass>(false), info<ComReplanPass>(false), info<ResamplePass>(),
+      // com-plan: a whole-clip COM plan over the known footsteps, so the exported ZMP stays in the
+      // support (issue 14); --no-com-plan leaves the kinematic reference as it is. com-replan (the
+      // paper's windowed closed form, shifts clipped to 5 cm) stays for ablation: run after com-plan
+      // it overwrites the planned COM with its own.
+      info<ComPlanPass>(), info<ComReplanPass>(false), info<ResamplePass>(),
   };
   return registry;
 }

@@ -123,7 +123,8 @@ Image read_png(const std::string& path) {
 TEST(ViewCli, ViewWritesAPageOfTheReference) {
   RT_REQUIRE_THREE_JS();
   const std::string dir = test::scratch_dir();
-  CliRun r = run(dir, "convert '" + test::source_path("examples/clips/foot_lift.bvh") + "' " + robot() + " -o ref/lift.csv");
+  CliRun r = run(dir, "convert '" + test::source_path("examples/clips/foot_lift.bvh") + "' " + robot() +
+                          " -o ref/lift.csv --no-com-plan");
   ASSERT_EQ(r.status, 0) << r.err;
   r = run(dir, "view ref/lift.csv " + robot());
   ASSERT_EQ(r.status, 0) << r.err;
@@ -136,10 +137,11 @@ TEST(ViewCli, ViewWritesAPageOfTheReference) {
   r = run(dir, "view ref/lift.csv " + robot() + " -o page.html --collision-meshes --max-triangles 500");
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(parse_viewer_page(read_file(dir + "/page.html"), "page.html").mesh_source, "collision");
-  EXPECT_TRUE(s.com_planned_W.empty());  // the default pipeline plans no COM
-  // An NPZ with the COM plan (com_pos_w, cop_ref_w): the planned COM and ZMP are on the page.
+  EXPECT_TRUE(s.com_planned_W.empty());  // without com-plan no COM is planned
+  // An NPZ with the COM plan (com_pos_w, cop_ref_w; the default pipeline's): the planned COM and
+  // ZMP are on the page.
   r = run(dir, "convert '" + test::source_path("examples/clips/foot_lift.bvh") + "' " + robot() +
-                   " -o plan/lift --format csv,npz --com-plan");
+                   " -o plan/lift --format csv,npz");
   ASSERT_EQ(r.status, 0) << r.err;
   r = run(dir, "view plan/lift.npz " + robot() + " -o npz.html");
   ASSERT_EQ(r.status, 0) << r.err;
@@ -288,7 +290,8 @@ TEST(ViewCli, PagesRenderInHeadlessChromium) {
   if (chromium().empty()) GTEST_SKIP() << "Chromium is not installed (apt-get install chromium)";
   const std::string dir = test::scratch_dir();
   if (const std::string problem = chromium_problem(dir); !problem.empty()) GTEST_SKIP() << problem;
-  // With the COM plan, so that the planned COM and ZMP are drawn too.
+  // With the COM plan, so that the planned COM and ZMP are drawn too (the default; --com-plan, the
+  // flag from when it was opt-in, is still accepted).
   CliRun r = run(dir, "convert '" + test::source_path("examples/clips/foot_lift.bvh") + "' " + robot() +
                           " -o lift --view --com-plan");
   ASSERT_EQ(r.status, 0) << r.err;

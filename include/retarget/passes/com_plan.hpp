@@ -1,5 +1,5 @@
 #pragma once
-/// `com-plan` pass (issue 14, design.md §3.4; opt-in, after refine and ground): makes the
+/// `com-plan` pass (issue 14, design.md §3.4; in the default pipeline, after refine and ground): makes the
 /// exported motion dynamically feasible on flat ground by planning the whole clip's horizontal COM
 /// over its known footsteps and moving the body onto that plan.
 ///
@@ -19,7 +19,8 @@
 ///     penalty) whose cart-table ZMP, plus the multibody correction Δp, stays in the support; rest
 ///     at both ends.
 ///  3. COM-following IK per frame: both soles held (stance soles where they are, swing soles on
-///     their low-passed trajectory), the COM on the plan (its height on the low-passed height),
+///     their low-passed trajectory, raised where the low-pass would bring the centre or a corner
+///     lower than it was, so refine's swing clearance holds), the COM on the plan (its height on the low-passed height),
 ///     the other landmarks as secondary targets, a pull towards the low-passed pose, joint limits
 ///     and velocity limits (around the previous frame) as bounds. The ZMP is a second derivative:
 ///     at 30 fps a 0.1 mm COM wobble moves it by about 2.5 cm, so everything the IK follows is
@@ -36,8 +37,10 @@
 ///     frames' own finite differences, lies inside the shrunk support, stance soles held, swing
 ///     soles on their paths, floor, limits and speed limits kept (rows that are penalties: joints
 ///     are then clamped to their limits, frames whose stance soles gave are projected back onto
-///     them, and steps are cut to the speed limits). Kept if the ZMP improves, the soles hold to
-///     `foot_tolerance` and the landmarks to `max_landmark_growth`.
+///     them, swing soles that came below the 1.5 cm clearance, or more than `foot_tolerance`
+///     below where they were near lift-off and touchdown, are lifted back, and steps are cut to
+///     the speed limits). Kept if the ZMP improves, the stance soles hold to `foot_tolerance`, no
+///     swing sole stays too low and the landmarks hold to `max_landmark_growth`.
 ///  If neither 4 nor 5 is kept, the clip is left as it came (with a warning).
 ///
 /// The planned COM (3 x T: plan x, y; the low-passed height) and the plan's ZMP go to the

@@ -25,7 +25,7 @@ ConvertResult convert(const RobotModel& model, const std::string& clip, bool com
   ConvertRequest request;
   request.clip_path = clip;
   request.write_outputs = false;
-  if (com_plan) request.enabled_passes = {"com-plan"};
+  if (!com_plan) request.disabled_passes = {"com-plan"};  // it runs by default
   return run_convert(request, model);
 }
 
@@ -62,7 +62,7 @@ TEST(ComPlanPass, LeavesAStandingClipWhereItWas) {
   const std::string clip = test::source_path("examples/clips/stand.bvh");
   const ConvertResult plain = convert(*model, clip, false), planned = convert(*model, clip, true);
   ASSERT_NE(find_pass(planned, "com-plan"), nullptr);
-  EXPECT_EQ(find_pass(plain, "com-plan"), nullptr);  // opt-in
+  EXPECT_EQ(find_pass(plain, "com-plan"), nullptr);  // --no-com-plan
   const Reference &a = plain.clip.reference, &b = planned.clip.reference;
   ASSERT_EQ(a.num_frames(), b.num_frames());
   RobotData data(*model);
@@ -140,9 +140,11 @@ TEST(ComPlanPass, StartsAndEndsOnAComTheAnklesHold) {
 
 // A gait captured mid-stride (BTK's Plug-in Gait trial: the subject walks through the volume, its
 // COM at 0.75 m/s over the first 0.1 s and 0.56 m/s over the last) cannot be planned at rest on its
-// own ends without bending its first and last steps: 61 % of the stance frames within 1 cm (52 % in
-// single support) and a landmark median of 4.5 cm without the lead, 100 % (100 %) and 3.7 cm with
-// a 1 s standing lead-in and lead-out, in which the plan starts and stops the COM.
+// own ends without bending its first and last steps: without the lead every stage that does it moves
+// the landmark median by more than 2 cm and is dropped, and the gait is left at 13 % of the stance
+// frames within 1 cm (3 % in single support; 61 % when a held sole could move 2 mm); with a 1 s
+// standing lead-in and lead-out, in which the plan starts and stops the COM, 100 % (100 %) at a
+// landmark median of 3.8 cm against 3.4 cm.
 TEST(ComPlanPass, AddsAStandingLeadWhereAGaitStartsAndEndsMidStride) {
   RT_REQUIRE_SHARED(clip, "c3d/btk_PiG_Motion-FlatFoot-One_vicon_fullbody.c3d");
   const std::unique_ptr<RobotModel> model = RobotModel::load("g1");
@@ -168,7 +170,6 @@ TEST(ComPlanPass, AddsAStandingLeadWhereAGaitStartsAndEndsMidStride) {
   const QualityMetrics &q = planned.quality, &q0 = no_lead.quality;
   expect_issue_bars(plain.quality, q);
   EXPECT_LT((1 - q.zmp_near_fraction) * q.zmp_stance_frames, (1 - q0.zmp_near_fraction) * q0.zmp_stance_frames - 5);
-  EXPECT_LT(q.landmark_error_median_m, q0.landmark_error_median_m);
 
   // The exported reference starts and ends at rest; the source's own first frame moves.
   const Reference& ref = c.reference;
@@ -221,10 +222,9 @@ TEST(ComPlanPass, PlansOnTheExportGrid) {
   ConvertRequest request;
   request.clip_path = clip;
   request.write_outputs = false;
-  request.enabled_passes = {"com-plan"};
   request.fps = 50;
   const ConvertResult planned = run_convert(request, *model);
-  request.enabled_passes.clear();
+  request.disabled_passes = {"com-plan"};
   const ConvertResult plain = run_convert(request, *model);
   ASSERT_DOUBLE_EQ(plain.clip.motion.fps, 100.0);
   const Clip& c = planned.clip;
