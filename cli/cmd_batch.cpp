@@ -13,8 +13,8 @@
 
 #include "cli/command.hpp"
 #include "cli/exit_codes.hpp"
-#include "cli/pass_flags.hpp"
 #include "cli/numeric_option.hpp"
+#include "cli/pass_flags.hpp"
 #include "retarget/batch/batch_runner.hpp"
 #include "retarget/batch/worker_process.hpp"
 #include "retarget/core/error.hpp"

@@ -28,6 +28,13 @@ namespace rt {
 
 namespace {
 
+// [m] Height of the lowest corner of a sole rectangle at the sole frame X (W).
+double lowest_corner_z(const Iso3& X, const Sole& sole) {
+  double z = std::numeric_limits<double>::infinity();
+  for (const Vec3& c : sole_corners_W(X, sole)) z = std::min(z, c.z());
+  return z;
+}
+
 // How far a swing sole's target pose (7-vector: position, quaternion w x y z) must rise so that
 // neither its centre nor its lowest corner is lower than in the pose it came from (by a millimetre
 // more, the IK's following error): the low-pass also tilts the sole (toe-off, heel strike), which
@@ -38,9 +45,7 @@ double raise_to_clear(const VecX& target, const VecX& original, const Sole& sole
     Iso3 X = Iso3::Identity();
     X.translation() = pose.head<3>();
     X.linear() = Quat(pose(3), pose(4), pose(5), pose(6)).normalized().toRotationMatrix();
-    double z = std::numeric_limits<double>::infinity();
-    for (const Vec3& c : sole_corners_W(X, sole)) z = std::min(z, c.z());
-    return z;
+    return lowest_corner_z(X, sole);
   };
   return std::max(original(2) - target(2), lowest_corner(original) + kFollowSlack_m - lowest_corner(target));
 }
@@ -495,8 +500,7 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
       update_kinematics(model, data, q.col(f));
       for (std::size_t foot = 0; foot < 2; ++foot) {
         if (work.contacts.in_contact[foot][fi]) continue;
-        const Iso3 X = sole_frame_W(model, data, static_cast<int>(foot), R_L_sole[foot]);
-        for (const Vec3& c : sole_corners_W(X, model.soles()[foot])) z[foot][fi] = std::min(z[foot][fi], c.z());
+        z[foot][fi] = lowest_corner_z(sole_frame_W(model, data, static_cast<int>(foot), R_L_sole[foot]), model.soles()[foot]);
       }
     }
     return z;
@@ -620,9 +624,7 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
           const IkTarget& t = frames.soles[static_cast<std::size_t>(f)][foot];
           if (labelled && !work.contacts.in_contact[foot][static_cast<std::size_t>(f)]) {
             const Iso3 X = sole_frame_W(model, data, static_cast<int>(foot), R_L_sole[foot]);
-            double z = std::numeric_limits<double>::infinity();
-            for (const Vec3& c : sole_corners_W(X, model.soles()[foot])) z = std::min(z, c.z());
-            const double dip = swing_floor_at(foot, static_cast<std::size_t>(f)) - z;
+            const double dip = swing_floor_at(foot, static_cast<std::size_t>(f)) - lowest_corner_z(X, model.soles()[foot]);
             if (dip <= 0) continue;
             IkTarget lifted = t;  // the sole as the stage left it, raised onto its floor
             lifted.p_W = X.translation() + Vec3(0, 0, dip + 1e-4);

@@ -1,7 +1,7 @@
 #pragma once
-/// `com-plan` pass (issue 14, design.md §3.4; in the default pipeline, after refine and ground): makes the
-/// exported motion dynamically feasible on flat ground by planning the whole clip's horizontal COM
-/// over its known footsteps and moving the body onto that plan.
+/// `com-plan` pass (issue 14, design.md §3.4; in the default pipeline, after refine and ground):
+/// makes the exported motion dynamically feasible on flat ground by planning the whole clip's
+/// horizontal COM over its known footsteps and moving the body onto that plan.
 ///
 /// The pass works on the export grid (`fps`, the resample pass's rate, which `--fps` sets): the
 /// ZMP is a second derivative of the motion, so it is planned and corrected on the frames it is
@@ -20,9 +20,10 @@
 ///     at both ends.
 ///  3. COM-following IK per frame: both soles held (stance soles where they are, swing soles on
 ///     their low-passed trajectory, raised where the low-pass would bring the centre or a corner
-///     lower than it was, so refine's swing clearance holds), the COM on the plan (its height on the low-passed height),
-///     the other landmarks as secondary targets, a pull towards the low-passed pose, joint limits
-///     and velocity limits (around the previous frame) as bounds. The ZMP is a second derivative:
+///     lower than it was, so refine's swing clearance holds), the COM on the plan (its height on
+///     the low-passed height), the other landmarks as secondary targets, a pull towards the
+///     low-passed pose, joint limits and velocity limits (around the previous frame) as bounds.
+///     The ZMP is a second derivative:
 ///     at 30 fps a 0.1 mm COM wobble moves it by about 2.5 cm, so everything the IK follows is
 ///     low-passed (`smoothing`) and the IK converges to micrometres.
 ///  4. Multibody correction (two-stage preview, Kajita et al. 2003): the whole-body ZMP of the
@@ -88,7 +89,7 @@ struct ComPlanPassOptions {
   double posture_regularization = 1.0;
   int ik_iterations = 20;
   double velocity_margin = 0.02;       ///< fraction of each URDF velocity limit the frame-to-frame bounds keep free
-  double foot_tolerance_m = 0.001;     ///< [m] a round whose IK moves a held sole further is dropped (issue 13's stance drift bar)
+  double foot_tolerance_m = 0.001;     ///< [m] a round whose IK moves a held sole further is dropped (issue 13's drift bar)
   /// [m] a round or the whole-body stage that grows the landmark error median (over the clip's own
   /// frames, the summary's metric) by more is dropped: a plan followed only by distorting the
   /// motion is reported (a warning), not exported (H1, whose legs lack an ankle roll, once moved
