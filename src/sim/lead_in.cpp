@@ -104,11 +104,12 @@ LeadIn standing_lead_in(const RobotModel& model, const Reference& ref, const Lea
   out.root_drop_m = q0[2] - q_down[2];
 
   const double fps = ref.fps;
-  const int n_lift_s = std::max(2, static_cast<int>(std::lround(o.lift_s * fps)));
-  const double down = 0.4 * n_lift_s;  // [frames] held down, then lifted over `lift` frames
+  // [frames] the nominal lead-in (`lift_s`)
+  const int n_nominal = std::max(2, static_cast<int>(std::lround(o.lift_s * fps)));
+  const double down = 0.4 * n_nominal;  // [frames] held down, then lifted over `lift` frames
   // A smoothstep over a duration D peaks at 6 h / D² for a rise of h.
-  const double lift = std::max(0.6 * n_lift_s, std::sqrt(6 * std::abs(out.root_drop_m) / o.max_root_accel_mps2) * fps);
-  const int n = std::max(n_lift_s, static_cast<int>(std::ceil(down + lift)));
+  const double lift = std::max(0.6 * n_nominal, std::sqrt(6 * std::abs(out.root_drop_m) / o.max_root_accel_mps2) * fps);
+  const int n = std::max(n_nominal, static_cast<int>(std::ceil(down + lift)));
   const int T = ref.num_frames();
   Reference& r = out.reference;
   r.root_pos_W.resize(3, n + T);
