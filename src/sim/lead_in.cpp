@@ -6,8 +6,7 @@
 #include "retarget/core/error.hpp"
 #include "retarget/core/smoothstep.hpp"
 #include "retarget/core/strings.hpp"
-#include "retarget/ik/landmark_ik.hpp"
-#include "retarget/model/joint_groups.hpp"
+#include "retarget/ik/foot_down.hpp"
 #include "retarget/model/kinematics.hpp"
 #include "retarget/model/robot_model.hpp"
 #include "retarget/model/sole_geometry.hpp"
@@ -28,80 +27,18 @@ LeadIn standing_lead_in(const RobotModel& model, const Reference& ref, const Lea
   RobotData data(model);
   update_kinematics(model, data, q0);
   const std::array<Mat3, 2> R_L_sole = sole_frames_in_links(model, data);
-  update_kinematics(model, data, q0);
-
-  // Both soles as IK targets: the stance one where it is, the airborne one flat on the floor below
-  // its frame-0 pose. The legs move first with the root fixed; where they cannot reach (a trailing
-  // leg at its toe-off, stretched), the root may also lower.
-  std::vector<IkTarget> targets(2);
-  std::array<Iso3, 2> X_target;
-  for (int f = 0; f < 2; ++f) {
-    const Sole& sole = model.soles()[static_cast<std::size_t>(f)];
-    Iso3 X = sole_frame_W(model, data, f, R_L_sole[static_cast<std::size_t>(f)]);
-    if (f == foot) {
-      out.foot_height_m = lowest_sole_corner_z(model, data, f) - lowest_sole_corner_z(model, data, 1 - f);
-      X = flat_on_floor(X);
-      // The floor is where the stance foot's lowest corner is.
-      X.translation().z() = lowest_sole_corner_z(model, data, 1 - f);
-    }
-    X_target[static_cast<std::size_t>(f)] = X;
-    IkTarget& t = targets[static_cast<std::size_t>(f)];
-    t.link = sole.link;
-    t.p_L = sole.p_L_center;
-    t.p_W = X.translation();
-    t.weight = 1e4;
-    t.R_L_frame = R_L_sole[static_cast<std::size_t>(f)];
-    t.R_W = Quat(X.linear());
-    t.orientation_weight = 1e3;
-  }
-  // How far the soles' corners end up from their targets' corners.
-  const auto corner_miss = [&](const VecX& q) {
-    update_kinematics(model, data, q);
-    double worst = 0;
-    for (std::size_t f = 0; f < 2; ++f) {
-      const Sole& sole = model.soles()[f];
-      const auto got = sole_corners_W(sole_frame_W(model, data, static_cast<int>(f), R_L_sole[f]), sole);
-      const auto want = sole_corners_W(X_target[f], sole);
-      for (std::size_t c = 0; c < 4; ++c) worst = std::max(worst, (got[c] - want[c]).norm());
-    }
-    return worst;
-  };
-  IkOptions io;
-  io.root_free = {false, false, false, false, false, false};
-  io.max_iterations = 100;
-  io.step_tolerance = 1e-9;
-  io.cost_tolerance = 1e-12;
-  io.regularization = 1e-6;
-  VecX q_down = q0;
-  LandmarkIk(model, io).solve(data, targets, q0, q_down);
-  double miss = corner_miss(q_down);
-  if (miss > o.max_corner_miss_m) {
-    io.root_free[2] = true;
-    // The legs start a tenth of the way to the middle of their joints' ranges: a straight stance
-    // knee is where the root's height does not change with the knee to first order, and the
-    // solver would not leave it.
-    VecX q_start = q0;
-    const std::vector<JointGroup> groups = joint_groups(model);
-    for (int i = 0; i < model.nu(); ++i)
-      if (groups[static_cast<std::size_t>(i)] == JointGroup::Legs && std::isfinite(model.q_lower()[i]) &&
-          std::isfinite(model.q_upper()[i]))
-        q_start[7 + i] += 0.1 * (0.5 * (model.q_lower()[i] + model.q_upper()[i]) - q0[7 + i]);
-    VecX q_lowered = q_start;
-    LandmarkIk(model, io).solve(data, targets, q_start, q_lowered);
-    const double miss_lowered = corner_miss(q_lowered);
-    if (miss_lowered < miss) {
-      q_down = q_lowered;
-      miss = miss_lowered;
-    }
-  }
-  if (miss > o.max_corner_miss_m) {
+  const FootDown down_pose = put_foot_down(model, data, q0, foot, R_L_sole, o.max_corner_miss_m);
+  out.foot_height_m = down_pose.foot_height_m;
+  const VecX& q_down = down_pose.q;
+  const double miss = down_pose.corner_miss_m;
+  if (!down_pose.reached) {
     // Standing on that foot would be a pose the reference does not have (a sole in the floor or
     // tilted on its edge): no lead-in, the clip starts on its one foot.
     out.skipped = format("the legs cannot put the %s foot down flat below frame 0 (a sole corner stays %.0f mm off)",
                          foot == 0 ? "left" : "right", miss * 1e3);
     return out;
   }
-  out.root_drop_m = q0[2] - q_down[2];
+  out.root_drop_m = down_pose.root_drop_m;
 
   const double fps = ref.fps;
   // [frames] the nominal lead-in (`lift_s`)
