@@ -12,6 +12,38 @@
 
 namespace rt {
 
+IkTarget sole_pose_target(const RobotModel& model, int foot, const Iso3& X_W_sole, const Mat3& R_L_sole) {
+  const Sole& sole = model.soles()[static_cast<std::size_t>(foot)];
+  IkTarget t;
+  t.link = sole.link;
+  t.p_L = sole.p_L_center;
+  t.p_W = X_W_sole.translation();
+  t.weight = 1e4;
+  t.R_L_frame = R_L_sole;
+  t.R_W = Quat(X_W_sole.linear());
+  t.orientation_weight = 1e3;
+  return t;
+}
+
+double sole_corner_miss(const RobotModel& model, const RobotData& data, int foot, const Mat3& R_L_sole, const Iso3& X_W_sole) {
+  const Sole& sole = model.soles()[static_cast<std::size_t>(foot)];
+  const auto got = sole_corners_W(sole_frame_W(model, data, foot, R_L_sole), sole);
+  const auto want = sole_corners_W(X_W_sole, sole);
+  double worst = 0;
+  for (std::size_t c = 0; c < 4; ++c) worst = std::max(worst, (got[c] - want[c]).norm());
+  return worst;
+}
+
+IkOptions sole_ik_options(bool root_height_free) {
+  IkOptions io;
+  io.root_free = {false, false, root_height_free, false, false, false};
+  io.max_iterations = 100;
+  io.step_tolerance = 1e-9;
+  io.cost_tolerance = 1e-12;
+  io.regularization = 1e-6;
+  return io;
+}
+
 FootDown put_foot_down(const RobotModel& model, RobotData& data, const VecX& q0, int foot,
                        const std::array<Mat3, 2>& R_L_sole, double max_corner_miss_m) {
   FootDown out;
@@ -22,7 +54,6 @@ FootDown put_foot_down(const RobotModel& model, RobotData& data, const VecX& q0,
   std::vector<IkTarget> targets(2);
   std::array<Iso3, 2> X_target;
   for (int f = 0; f < 2; ++f) {
-    const Sole& sole = model.soles()[static_cast<std::size_t>(f)];
     Iso3 X = sole_frame_W(model, data, f, R_L_sole[static_cast<std::size_t>(f)]);
     if (f == foot) {
       out.foot_height_m = lowest_sole_corner_z(model, data, f) - lowest_sole_corner_z(model, data, 1 - f);
@@ -30,38 +61,19 @@ FootDown put_foot_down(const RobotModel& model, RobotData& data, const VecX& q0,
       X.translation().z() = lowest_sole_corner_z(model, data, 1 - f);
     }
     X_target[static_cast<std::size_t>(f)] = X;
-    IkTarget& t = targets[static_cast<std::size_t>(f)];
-    t.link = sole.link;
-    t.p_L = sole.p_L_center;
-    t.p_W = X.translation();
-    t.weight = 1e4;
-    t.R_L_frame = R_L_sole[static_cast<std::size_t>(f)];
-    t.R_W = Quat(X.linear());
-    t.orientation_weight = 1e3;
+    targets[static_cast<std::size_t>(f)] = sole_pose_target(model, f, X, R_L_sole[static_cast<std::size_t>(f)]);
   }
   // How far the soles' corners end up from their targets' corners.
   const auto corner_miss = [&](const VecX& q) {
     update_kinematics(model, data, q);
-    double worst = 0;
-    for (std::size_t f = 0; f < 2; ++f) {
-      const Sole& sole = model.soles()[f];
-      const auto got = sole_corners_W(sole_frame_W(model, data, static_cast<int>(f), R_L_sole[f]), sole);
-      const auto want = sole_corners_W(X_target[f], sole);
-      for (std::size_t c = 0; c < 4; ++c) worst = std::max(worst, (got[c] - want[c]).norm());
-    }
-    return worst;
+    return std::max(sole_corner_miss(model, data, 0, R_L_sole[0], X_target[0]), sole_corner_miss(model, data, 1, R_L_sole[1], X_target[1]));
   };
-  IkOptions io;
-  io.root_free = {false, false, false, false, false, false};
-  io.max_iterations = 100;
-  io.step_tolerance = 1e-9;
-  io.cost_tolerance = 1e-12;
-  io.regularization = 1e-6;
+  IkOptions io = sole_ik_options(false);
   VecX q_down = q0;
   LandmarkIk(model, io).solve(data, targets, q0, q_down);
   double miss = corner_miss(q_down);
   if (miss > max_corner_miss_m) {
-    io.root_free[2] = true;
+    io = sole_ik_options(true);
     // The legs start a tenth of the way to the middle of their joints' ranges: a straight stance
     // knee is where the root's height does not change with the knee to first order, and the
     // solver would not leave it.

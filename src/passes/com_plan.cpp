@@ -10,6 +10,8 @@
 #include "retarget/core/gaussian_filter.hpp"
 #include "retarget/core/lap_timer.hpp"
 #include "retarget/core/strings.hpp"
+#include "retarget/core/smoothstep.hpp"
+#include "retarget/ik/foot_down.hpp"
 #include "retarget/ik/landmark_ik.hpp"
 #include "retarget/model/centroidal.hpp"
 #include "retarget/model/kinematics.hpp"
@@ -180,6 +182,102 @@ double end_com_speed(const RobotModel& model, RobotData& data, const RobotMotion
   return (c_b - c_a).head<2>().norm() * motion.fps / n;
 }
 
+// Where a lead (`frames` frames held at the clip's start, or at its end with `at_end`) stands on
+// one foot, it is made to stand on both: the airborne foot is put down flat below where it is
+// (put_foot_down; the root may lower), and lifted into the clip's first pose (lowered from its last)
+// over the lead's last (first) frames, labelled in swing there. A reference then starts and stops
+// where a robot is put down and left, standing on both feet, rather than holding a one-legged
+// balance for the whole lead that the clip never asked for. The transition lasts the swing guard
+// (0.1 s), longer where the root must rise or drop by more than 2 m/s² allow (a quintic smoothstep
+// peaks at about 6 h / D²), and at most half the lead. Its frames are solved by IK: the stance sole
+// where it is, the moving one on a smoothstep from the floor to its end pose, its lowest corner
+// raised towards 1.5 cm (plus 1 mm) up as the swing gets further from its lift-off or touchdown,
+// all of it beyond the guard (issue 13's swing bar), the rest pulled towards the joint-space blend.
+// A transition that misses a sole by more than `max_corner_miss_m` leaves the lead on one foot.
+// Returns what was done, for the statistics.
+std::string stand_lead_on_both_feet(const RobotModel& model, RobotData& data, Clip& work, int frames, bool at_end,
+                                    double max_corner_miss_m) {
+  constexpr double kTransitionMin_s = 0.1, kRootAccel_mps2 = 2.0, kGuard_s = 0.1, kClearance_m = 0.015, kSlack_m = 0.001;
+  RobotMotion& motion = work.motion;
+  const int T = motion.num_frames();
+  if (work.contacts.empty() || frames < 2 || T < frames + 1) return "";
+  const int end = at_end ? T - frames - 1 : frames;  // the clip's own end frame
+  auto& contact = work.contacts.in_contact;
+  const bool left = contact[0][static_cast<std::size_t>(end)] != 0, right = contact[1][static_cast<std::size_t>(end)] != 0;
+  if (left == right) return "";
+  const int foot = left ? 1 : 0, stance = 1 - foot;  // the airborne one, the standing one
+  const auto fi = static_cast<std::size_t>(foot), si = static_cast<std::size_t>(stance);
+  const char* name = foot == 0 ? "left" : "right";
+  const VecX q_end = motion.q.col(end);
+  const std::array<Mat3, 2> R_L_sole = sole_frames_in_links(model, data);  // (moves `data`)
+  update_kinematics(model, data, q_end);
+  const Iso3 X_stance = sole_frame_W(model, data, stance, R_L_sole[si]);
+  const Iso3 X_up = sole_frame_W(model, data, foot, R_L_sole[fi]);
+  const double floor_z = lowest_sole_corner_z(model, data, stance);
+  const FootDown down = put_foot_down(model, data, q_end, foot, R_L_sole, max_corner_miss_m);
+  if (!down.reached)
+    return format("on one foot: the legs cannot put the %s foot down flat (a sole corner stays %.1f mm off)", name, 1e3 * down.corner_miss_m);
+  update_kinematics(model, data, down.q);
+  const Iso3 X_down = sole_frame_W(model, data, foot, R_L_sole[fi]);
+  const double fps = motion.fps;
+  const int n = static_cast<int>(std::ceil(std::max(kTransitionMin_s, std::sqrt(6 * std::abs(down.root_drop_m) / kRootAccel_mps2)) * fps - 1e-9));
+  if (2 * n > frames) return format("on one foot: putting the %s foot down would take %d of the lead's %d frames", name, n, frames);
+  const int guard = static_cast<int>(std::ceil(kGuard_s * fps - 1e-9));
+  // The clip's own touchdown after its first frame (lead-in), or lift-off before its last (lead-out).
+  int clip_edge = end;
+  if (at_end)
+    while (clip_edge > 0 && !contact[fi][static_cast<std::size_t>(clip_edge - 1)]) --clip_edge;
+  else
+    while (clip_edge < T && !contact[fi][static_cast<std::size_t>(clip_edge)]) ++clip_edge;
+
+  const MatX before = motion.q;
+  const std::vector<std::uint8_t> contact_before = contact[fi];
+  const Sole& sole = model.soles()[fi];
+  const VecX step = difference(model, q_end, down.q, 1.0);
+  const LandmarkIk ik(model, sole_ik_options(true));
+  std::vector<IkTarget> targets(2);
+  targets[si] = sole_pose_target(model, stance, X_stance, R_L_sole[si]);
+  const Quat R_down(X_down.linear()), R_up(X_up.linear());
+  // Lead-in: down on frames [0, frames - n), lifting on [frames - n, frames); lead-out: lowering on
+  // [T - frames, T - frames + n), down after.
+  const int first = at_end ? T - frames : 0;
+  bool held = true;
+  for (int k = first; k < first + frames; ++k) {
+    const int into = at_end ? k - first + 1 : frames - k;  // frames from the clip's end frame
+    const bool down_here = into > n;
+    contact[fi][static_cast<std::size_t>(k)] = down_here;
+    if (down_here) {
+      motion.q.col(k) = down.q;
+      continue;
+    }
+    const double s = smoothstep(static_cast<double>(into) / (n + 1));  // 0 at the end pose, 1 down
+    const VecX q_blend = integrate(model, q_end, step, s);
+    Iso3 X = Iso3::Identity();
+    X.translation() = (1 - s) * X_up.translation() + s * X_down.translation();
+    X.linear() = R_up.slerp(s, R_down).toRotationMatrix();
+    // Frames of the swing (which runs on into the clip) from its lift-off and to its touchdown.
+    const int swing_distance = at_end ? std::min(k - clip_edge + 1, first + n - k) : std::min(k - (frames - n) + 1, clip_edge - k);
+    const double min_corner = floor_z + (kClearance_m + kSlack_m) * std::min(1.0, static_cast<double>(swing_distance) / (guard + 1));
+    X.translation().z() += std::max(0.0, min_corner - lowest_corner_z(X, sole));
+    targets[fi] = sole_pose_target(model, foot, X, R_L_sole[fi]);
+    VecX q = q_blend;
+    ik.solve(data, targets, q_blend, q);
+    motion.q.col(k) = q;
+    // Held: the stance sole's corners and the moving sole's within the miss of their targets.
+    update_kinematics(model, data, q);
+    held = held && sole_corner_miss(model, data, stance, R_L_sole[si], X_stance) <= max_corner_miss_m &&
+           sole_corner_miss(model, data, foot, R_L_sole[fi], X) <= max_corner_miss_m;
+  }
+  if (!held) {
+    motion.q = before;
+    contact[fi] = contact_before;
+    return format("on one foot: the legs cannot carry the %s foot between the floor and its pose within %.1f mm", name,
+                  1e3 * max_corner_miss_m);
+  }
+  return format("on both feet: the %s foot put down%s", name,
+                down.root_drop_m > 1e-4 ? format(", the root lowered %.0f mm for it", 1e3 * down.root_drop_m).c_str() : "");
+}
+
 }  // namespace
 
 void ComPlanPass::run(Clip& clip, PassContext& ctx) {
@@ -213,6 +311,11 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
       lead[static_cast<std::size_t>(e)] = static_cast<int>(std::lround(options_.lead_s * motion.fps));
   }
   hold_clip_ends(work, lead[0], lead[1]);
+  std::array<std::string, 2> lead_stance;
+  for (int e = 0; e < 2; ++e)
+    if (lead[static_cast<std::size_t>(e)] > 0)
+      lead_stance[static_cast<std::size_t>(e)] =
+          stand_lead_on_both_feet(model, data, work, lead[static_cast<std::size_t>(e)], e == 1, options_.foot_tolerance_m);
 
   const int T = motion.num_frames();
   if (!(options_.plan.period_s > 0 && options_.plan.period_s <= 0.1)) throw InputError("com-plan{period}", "must be in (0, 0.1] s");
@@ -705,9 +808,10 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
   }
   for (int e = 0; e < 2; ++e)
     ctx.statistics.set(e == 0 ? "lead-in" : "lead-out", lead[static_cast<std::size_t>(e)] / fps, "s",
-                       format("standing frames added %s the clip (its COM %s at %.2f m/s; threshold %.2f m/s)%s",
+                       format("standing frames added %s the clip (its COM %s at %.2f m/s; threshold %.2f m/s)%s%s",
                               e == 0 ? "before" : "after", e == 0 ? "starts" : "ends",
                               end_speed[static_cast<std::size_t>(e)], options_.lead_speed_mps,
+                              lead_stance[static_cast<std::size_t>(e)].empty() ? "" : ("; " + lead_stance[static_cast<std::size_t>(e)]).c_str(),
                               unchanged && (end_speed[static_cast<std::size_t>(e)] > options_.lead_speed_mps) ? "; none kept: the pass kept nothing" : ""));
 
   if (!qp_trouble.empty()) ctx.diagnostics.warn(where, "com-plan: the ZMP plan did not converge: " + qp_trouble);

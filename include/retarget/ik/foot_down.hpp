@@ -8,11 +8,24 @@
 #include <array>
 
 #include "retarget/core/types.hpp"
+#include "retarget/ik/landmark_ik.hpp"
 
 namespace rt {
 
 class RobotModel;
 class RobotData;
+
+/// The IK target holding sole `foot` at the sole frame X_W_sole (position weight 1e4, orientation
+/// 1e3). `R_L_sole` is that sole's frame in its link.
+IkTarget sole_pose_target(const RobotModel& model, int foot, const Iso3& X_W_sole, const Mat3& R_L_sole);
+
+/// [m] The largest distance of a corner of sole `foot` (at the kinematics in `data`) from the same
+/// corner at the sole frame X_W_sole.
+double sole_corner_miss(const RobotModel& model, const RobotData& data, int foot, const Mat3& R_L_sole, const Iso3& X_W_sole);
+
+/// Options of those sole-placing solves: converged to micrometres, the root fixed but for its
+/// height where `root_height_free`.
+IkOptions sole_ik_options(bool root_height_free);
 
 struct FootDown {
   VecX q;                    ///< the pose with both feet down (valid when `reached`)

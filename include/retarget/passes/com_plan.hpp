@@ -12,7 +12,11 @@
 ///
 ///  0. Lead: where the clip starts (ends) moving and standing, a standing lead-in (lead-out) that
 ///     holds that end's pose and contact labels is added (`lead`, clip_ends.hpp), so the plan can
-///     start (stop) the COM at rest there rather than inside the clip's first (last) step.
+///     start (stop) the COM at rest there rather than inside the clip's first (last) step. Where
+///     that end stands on one foot, the lead stands on both: the other foot is put down flat below
+///     where it is (ik/foot_down.hpp), and lifted into the clip's first pose (lowered from its last)
+///     in 0.1 s at the lead's clip side (longer where the root was lowered to reach the floor), the
+///     stance sole held; where the legs cannot do that within `foot_tolerance`, it stays on one.
 ///  1. Support: per frame, the hull of the sole rectangles of the feet labelled in contact
 ///     (stance_support.hpp), shrunk by `margin`; no constraint on flight frames.
 ///  2. Plan (zmp_plan.hpp): on a `period` grid, the COM closest to the retargeted COM (with a jerk
@@ -64,8 +68,8 @@ struct ComPlanPassOptions {
   }();
   /// [s] standing lead-in (lead-out) added where the clip starts (ends) moving with a foot down, so
   /// the plan can start (stop) the COM at rest without bending the first (last) step (clip_ends.hpp;
-  /// the summary and meta.json `lead_in_s` / `lead_out_s` say so). It stands on the feet that end
-  /// stands on. 0: none, the rested end is the clip's own.
+  /// the summary and meta.json `lead_in_s` / `lead_out_s` say so). It stands on both feet (step 0).
+  /// 0: none, the rested end is the clip's own.
   double lead_s = 1.0;
   double lead_speed_mps = 0.1;         ///< [m/s] horizontal COM speed (over 0.1 s) above which an end is moving
   double margin_m = 0.015;             ///< [m] the planned ZMP keeps this far inside each support polygon

@@ -14,6 +14,7 @@
 #include "retarget/model/kinematics.hpp"
 #include "retarget/model/robot_data.hpp"
 #include "retarget/model/robot_model.hpp"
+#include "retarget/model/sole_geometry.hpp"
 #include "retarget/passes/stance_support.hpp"
 #include "retarget/reference/robot_mapping.hpp"
 #include "support/test_paths.hpp"
@@ -189,6 +190,27 @@ TEST(ComPlanPass, AddsAStandingLeadWhereAGaitStartsAndEndsMidStride) {
   EXPECT_GT(source_speed, 0.5);
   EXPECT_LT(start_speed, 0.02);
   EXPECT_LT(end_speed, 0.02);
+
+  // The gait starts on its right foot; the lead-in stands on both: the left sole flat on the floor
+  // (every corner within 1 mm of it), lifted into the clip's first pose in the lead's last frames,
+  // with the right sole held and no swing frame low or below the floor.
+  const std::array<Mat3, 2> R_L_sole = sole_frames_in_links(*model, data);
+  ASSERT_TRUE(ref.has_contacts());
+  EXPECT_FALSE(plain.clip.reference.contact[0][0]);
+  EXPECT_TRUE(ref.contact[0][0] && ref.contact[1][0]);
+  update_kinematics(*model, data, map.q(ref, 0));
+  for (int f = 0; f < 2; ++f)
+    for (const Vec3& corner : sole_corners_W(sole_frame_W(*model, data, f, R_L_sole[static_cast<std::size_t>(f)]), model->soles()[static_cast<std::size_t>(f)]))
+      EXPECT_NEAR(corner.z(), 0.0, 1e-3) << (f == 0 ? "left" : "right") << " sole corner at frame 0";
+  int lift_off = 0;
+  while (lift_off < T && ref.contact[0][static_cast<std::size_t>(lift_off)]) ++lift_off;
+  std::cout << "[ measured ] left foot lifts off at frame " << lift_off << " of the " << lead << "-frame lead-in\n";
+  EXPECT_LT(lift_off, lead);
+  EXPECT_GE(lift_off, lead - 12);  // within its last 0.4 s
+  for (int k = 0; k <= lift_off; ++k) EXPECT_TRUE(ref.contact[1][static_cast<std::size_t>(k)]);
+  EXPECT_EQ(q.swing_frames_low, 0);
+  EXPECT_LE(q.penetration_max_m, 1e-3);
+  EXPECT_LE(q.stance_height_max_m, 1e-3);
 }
 
 // A plan the robot can follow only by distorting the motion is not exported. Without its lead,
