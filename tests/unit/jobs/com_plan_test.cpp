@@ -213,6 +213,33 @@ TEST(ComPlanPass, AddsAStandingLeadWhereAGaitStartsAndEndsMidStride) {
   EXPECT_LE(q.stance_height_max_m, 1e-3);
 }
 
+// The whole-body stage's Gauss–Newton steps stall on JVRC-1's PyMO walk (no step along the
+// direction lowers the cost while ZMP rows are missed): plain, it stopped after 4 iterations at 92 %
+// of the stance frames within 1 cm. Retried damped (`whole_body_extra_iterations`, the default 5), it
+// goes on to 98 % (97 % in single support; 10 or 20 iterations, 97.8-98.5 %, as builds round
+// differently: the stage's end is that sensitive), the stance soles held and no swing sole low. The
+// referee's 95 % is asserted, and a clear gain over the stalled stage.
+TEST(ComPlanPass, RetriesAStalledWholeBodyStepDamped) {
+  RT_REQUIRE_SHARED(clip, "bvh/pymo_AV_8Walk_Meredith_HVHA_Rep1.bvh");
+  RT_REQUIRE_SHARED(robots, "robots");
+  const std::unique_ptr<RobotModel> model = RobotModel::load("jvrc1");
+  const ConvertResult plain = convert(*model, clip, false);
+  const ConvertResult damped = convert(*model, clip, true);
+  const ConvertResult stalled = convert_with_com_plan(*model, clip, "whole_body_extra_iterations=0");
+  std::cout << "[ measured ] ZMP within 1 cm: plain Gauss-Newton " << stalled.quality.zmp_near_fraction << " (single support "
+            << stalled.quality.zmp_single_near_fraction << "), damped retries " << damped.quality.zmp_near_fraction << " ("
+            << damped.quality.zmp_single_near_fraction << ")\n";
+  EXPECT_LT(stalled.quality.zmp_near_fraction, 0.95);
+  EXPECT_GT(damped.quality.zmp_near_fraction, stalled.quality.zmp_near_fraction + 0.04);
+  EXPECT_GT(damped.quality.zmp_near_fraction, 0.95);
+  EXPECT_GT(damped.quality.zmp_single_near_fraction, 0.95);
+  EXPECT_LT(damped.quality.landmark_error_median_m, plain.quality.landmark_error_median_m + 0.02);
+  EXPECT_LE(damped.quality.foot_skating_max_m, 0.001);
+  EXPECT_EQ(damped.quality.velocity_limit_violations, 0);
+  EXPECT_EQ(damped.quality.swing_frames_low, 0);
+  EXPECT_LE(damped.quality.stance_tilt_max_deg, 0.5);
+}
+
 // A plan the robot can follow only by distorting the motion is not exported. Without its lead,
 // BTK's PiG gait must stop its COM inside the first and last steps; the rounds that do it move
 // G1's landmark median from 3.4 to 12.7 cm (97 % of the stance frames within 1 cm of the support):

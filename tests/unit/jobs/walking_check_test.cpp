@@ -5,13 +5,14 @@
 // Measured outcome with the walking controller on the default pipeline's references, which com-plan
 // has made feasible (their multibody ZMP within 1 cm of the support on every stance frame; README,
 // "What the check finds on real clips"): the Bandai walk-turn-left passes at 1x on both robots and
-// GAMES-105 on humanoid25. G1's GAMES-105 passed too until com-plan's leads stood on both feet
-// (2026-12-07): its reference now starts with both feet down and lifts the left one in the lead-in's
-// last 0.1 s, and the robot's right foot spins 52 deg at 3.0 s (with the masses x1.1 it now passes,
-// and with the friction 0.7 it falls: these verdicts move with small changes). Before com-plan was in
+// GAMES-105 on humanoid25. G1's GAMES-105 passed at 1x too until com-plan's leads stood on both feet
+// (2026-12-07): its right foot now spins 52 deg at 3.0 s, at every speed. These verdicts move with
+// small changes of the reference: a build of that day whose whole-body stage also polished G1's
+// walks (200 ms more on the CMU walk, no frame of ZMP gained) passed G1's CMU walk at 0.79x and
+// GAMES-105 at 0.96x (and its GAMES-105 then passed with the masses x0.9). Before com-plan was in
 // the default pipeline only humanoid25's two passed at 1x. CMU 131_01 and PyMO fail at every speed
-// down to 0.25x on both robots: their ZMP is feasible, and the robot still falls (CMU on G1) or leaves
-// its footsteps within a few steps (issue 15 is open). So what is pinned: the Bandai walk on both
+// down to 0.25x on both robots: their ZMP is feasible, and the robot still falls or leaves its
+// footsteps within a few steps (issue 15 is open). So what is pinned: the Bandai walk on both
 // robots and GAMES-105 on humanoid25 pass at 1x; every other pair fails at 1x with its first failing
 // violation in the first 6 s of the clip, and --find-speed finds no passing speed for it.
 // (`passes_slower`, a pair that fails at 1x and passes at a speed between 0.67x and 1x, is kept for
