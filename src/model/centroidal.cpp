@@ -62,36 +62,55 @@ MatX centroidal_angular_matrix(const RobotModel& model, const RobotData& data) {
   return centroidal_momentum_matrix(model, data).topRows<3>();
 }
 
+Vec3 half_frame_angular_momentum(const RobotModel& model, const MatX& A_L_a, const MatX& A_L_b, const VecXCRef& q_a,
+                                 const VecXCRef& q_b, double dt_s) {
+  const VecX v = difference(model, q_a, q_b, dt_s);
+  return 0.5 * (A_L_a * v + A_L_b * v);
+}
+
+ZmpSample zmp_sample(const Vec3& com_before_W, const Vec3& com_W, const Vec3& com_after_W, const Vec3& L_before,
+                     const Vec3& L_after, double mass_kg, double fps) {
+  const Vec3 acc = (com_after_W - 2 * com_W + com_before_W) * fps * fps;
+  const Vec3 dL = (L_after - L_before) * fps;
+  ZmpSample out;
+  out.vertical_accel_raw = kGravity + acc.z();
+  out.vertical_accel = std::max(out.vertical_accel_raw, kZmpMinSupport_g * kGravity);
+  out.zmp_W = Vec2(com_W.x() - (com_W.z() * acc.x() + dL.y() / mass_kg) / out.vertical_accel,
+                   com_W.y() - (com_W.z() * acc.y() - dL.x() / mass_kg) / out.vertical_accel);
+  return out;
+}
+
 MultibodyZmp multibody_zmp(const RobotModel& model, RobotData& data, const MatX& q, double fps) {
   const int T = static_cast<int>(q.cols());
   RT_DEMAND(q.rows() == model.nq() && T > 0 && fps > 0, "multibody_zmp: bad motion");
   const double mass = model.mj()->body_subtreemass[model.root_body()];
-  Mat3X com(3, T), L(3, T);
+  Mat3X com(3, T), L_half(3, std::max(T - 1, 0));
+  MatX A_prev;
   for (int f = 0; f < T; ++f) {
-    const int a = std::max(f - 1, 0), b = std::min(f + 1, T - 1);
-    const VecX v = b > a ? difference(model, q.col(a), q.col(b), (b - a) / fps) : VecX::Zero(model.nv());
-    // L = A_L(q) v: one kinematics pass per frame (centroidal_momentum also runs MuJoCo's
-    // velocity stages).
     update_kinematics(model, data, q.col(f));
     com.col(f) = com_position(model, data);
-    L.col(f) = centroidal_angular_matrix(model, data) * v;
+    MatX A = centroidal_angular_matrix(model, data);
+    if (f > 0) L_half.col(f - 1) = half_frame_angular_momentum(model, A_prev, A, q.col(f - 1), q.col(f), 1.0 / fps);
+    A_prev = std::move(A);
   }
   MultibodyZmp out;
   out.com_W = com;
   out.zmp_W.resize(2, T);
   out.zmp_gain_s2.resize(T);
+  out.vertical_accel_mps2.setConstant(T, kGravity);
   for (int f = 0; f < T; ++f) {
     const int i = std::clamp(f, 1, std::max(T - 2, 1));  // ends reuse their neighbour's derivatives
-    Vec3 acc = Vec3::Zero(), dL = Vec3::Zero();
-    if (T >= 3) {
-      acc = (com.col(i + 1) - 2 * com.col(i) + com.col(i - 1)) * fps * fps;
-      dL = (L.col(i + 1) - L.col(i - 1)) * (0.5 * fps);
-    }
-    const double fz = std::max(kGravity + acc.z(), 0.1 * kGravity);  // a robot in free fall has no ZMP
     const Vec3& c = com.col(f);
-    out.zmp_W(0, f) = c.x() - (c.z() * acc.x() + dL.y() / mass) / fz;
-    out.zmp_W(1, f) = c.y() - (c.z() * acc.y() - dL.x() / mass) / fz;
-    out.zmp_gain_s2[f] = c.z() / fz;
+    if (T < 3) {
+      out.zmp_W.col(f) = c.head<2>();
+      out.zmp_gain_s2[f] = c.z() / kGravity;
+      continue;
+    }
+    const ZmpSample s = zmp_sample(com.col(i - 1), com.col(i), com.col(i + 1), L_half.col(i - 1), L_half.col(i), mass, fps);
+    // An end frame takes its neighbour's ZMP offset from the COM, at its own COM.
+    out.zmp_W.col(f) = c.head<2>() + (s.zmp_W - com.col(i).head<2>());
+    out.zmp_gain_s2[f] = c.z() / s.vertical_accel;
+    out.vertical_accel_mps2[f] = s.vertical_accel_raw;
   }
   return out;
 }

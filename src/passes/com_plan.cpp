@@ -115,13 +115,13 @@ struct Score {
   double worst_m = 0;
   bool better_than(const Score& o) const { return outside < o.outside || (outside == o.outside && worst_m < o.worst_m); }
 };
-Score score_zmp(const std::vector<SupportPolygon>& polygons, const Eigen::Matrix2Xd& zmp, double tolerance_m) {
+Score score_zmp(const std::vector<SupportPolygon>& polygons, const MultibodyZmp& zmp, double tolerance_m) {
   Score s;
   const int T = static_cast<int>(polygons.size());
   for (int f = 1; f + 1 < T; ++f) {
     const SupportPolygon& p = polygons[static_cast<std::size_t>(f)];
     if (p.empty()) continue;
-    const double d = p.signed_distance(zmp.col(f));
+    const double d = zmp_distance_outside(p, zmp, f);
     s.outside += d > tolerance_m;
     s.worst_m = std::max(s.worst_m, d);
   }
@@ -563,14 +563,14 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
     return out;
   };
 
-  auto score = [&](const Eigen::Matrix2Xd& zmp) { return score_zmp(frames.polygon, zmp, 0.0); };
-  const Score before = score(original.zmp_W);
+  auto score = [&](const MultibodyZmp& zmp) { return score_zmp(frames.polygon, zmp, 0.0); };
+  const Score before = score(original);
 
   Score best = before;
   Follow best_follow;
   best_follow.q = q_in;
   Eigen::Matrix2Xd best_com = com_in, best_zmp = original.zmp_W;
-  Eigen::Matrix2Xd best_realised = original.zmp_W;  // the kept motion's multibody ZMP
+  MultibodyZmp best_realised = original;  // the kept motion's multibody ZMP
   double best_shift = 0;
   int rounds = 0, qp_iterations = 0;
   std::string qp_trouble, round_outside;
@@ -631,7 +631,7 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
     Follow followed = follow(com_target);
     timer.lap(ms_follow);
     const MultibodyZmp realised = multibody_zmp(model, data, followed.q, fps);
-    const Score now = score(realised.zmp_W);
+    const Score now = score(realised);
     {
       const Eigen::Matrix2Xd part = realised.zmp_W - cart_table_zmp(realised.com_W.topRows<2>(), realised.zmp_gain_s2, fps);
       std::vector<double> len;
@@ -646,7 +646,7 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
     if (soles_held && now.better_than(best) && landmarks_held(followed.q)) {
       best = now;
       best_follow = std::move(followed);
-      best_realised = realised.zmp_W;
+      best_realised = realised;
       best_com = com_target;
       best_zmp = zmp_plan;
       best_shift = plan.max_shift_m;
@@ -712,7 +712,8 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
     // projected back onto its held soles by the smallest change (each joint within ±0.05 rad, so no
     // leg changes branch within a frame), a swing sole that came down too low (below
     // `swing_floor_at`) back onto its path; last, each joint's step is cut to its speed limit (a
-    // joint beyond it rejoins its trajectory as fast as the limit allows).
+    // joint beyond it rejoins its trajectory as fast as the limit allows; the speed rows keep
+    // `velocity_margin` free, so what is left between the margin and the limit stays).
     const std::array<std::vector<double>, 2> swing_floor = lowest_swing_corners(q0);
     auto swing_floor_at = [&](std::size_t foot, std::size_t f) {
       // The swing clearance where the sole was above it, else foot_tolerance under where it was.
@@ -760,7 +761,7 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
     }
     for (int i = 0; i < model.nu(); ++i) {
       if (!(v_max[i] > 0)) continue;
-      const double step = (1 - options_.velocity_margin) * v_max[i] / fps;
+      const double step = v_max[i] / fps;
       for (int f = 1; f < T; ++f) q1(7 + i, f) = std::clamp(q1(7 + i, f), q1(7 + i, f - 1) - step, q1(7 + i, f - 1) + step);
     }
     // How far a stance sole moved and turned from its held pose, and how much more it tilts than
@@ -798,7 +799,7 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
         swing_dip = std::max(swing_dip, swing_floor_at(foot, f) - swing_now[foot][f]);
     const MultibodyZmp z1 = multibody_zmp(model, data, q1, fps);
     const Score before_1cm = score_zmp(frames.polygon, best_realised, kZmpNear_m),
-                after_1cm = score_zmp(frames.polygon, z1.zmp_W, kZmpNear_m);
+                after_1cm = score_zmp(frames.polygon, z1, kZmpNear_m);
     const bool kept = sole_move <= options_.foot_tolerance_m && sole_turn <= kStanceAngle_rad && tilt_excess <= 0 && swing_dip <= 0 &&
                       after_1cm.better_than(before_1cm) && landmarks_held(q1);
     ctx.statistics.set("whole-body-zmp", after_1cm.outside, "frames",
@@ -810,10 +811,10 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
                               std::max(0.0, swing_dip)));
     if (kept) {
       best_follow.q = std::move(q1);
-      best = score(z1.zmp_W);
+      best = score(z1);
       best_com = z1.com_W.topRows<2>();
       best_zmp = z1.zmp_W;  // the exported balance reference: what the rows held
-      best_realised = z1.zmp_W;
+      best_realised = z1;
     }
   }
   timer.lap(ms_whole_body);

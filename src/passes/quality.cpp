@@ -163,6 +163,11 @@ QualityMetrics foot_metrics(const RobotModel& model, RobotData& data, const MatX
   return m;
 }
 
+double zmp_distance_outside(const SupportPolygon& support, const MultibodyZmp& zmp, int f) {
+  const double d = support.signed_distance(zmp.zmp_W.col(f));
+  return zmp.vertical_accel_mps2[f] < kZmpMinSupport_g * kGravity ? std::max(d, 2 * kZmpNear_m) : d;
+}
+
 void add_zmp_metrics(const RobotModel& model, RobotData& data, const MatX& q, double fps,
                      const std::array<std::vector<std::uint8_t>, 2>& contacts, QualityMetrics& m) {
   const int T = static_cast<int>(q.cols());
@@ -175,7 +180,7 @@ void add_zmp_metrics(const RobotModel& model, RobotData& data, const MatX& q, do
     const std::array<bool, 2> down{{contacts[0][static_cast<std::size_t>(f)] != 0, contacts[1][static_cast<std::size_t>(f)] != 0}};
     if (!down[0] && !down[1]) continue;
     update_kinematics(model, data, q.col(f));
-    const double d = stance_support_polygon(model, data, down).signed_distance(zmp.zmp_W.col(f));
+    const double d = zmp_distance_outside(stance_support_polygon(model, data, down), zmp, f);
     const bool single = down[0] != down[1];
     ++m.zmp_stance_frames;
     m.zmp_single_support_frames += single;

@@ -133,11 +133,13 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
     Vec2 n;
     double residual, com_height_m, vertical_force;  // c_z [m], g + c̈_z [m/s²]
     bool at_rest = false;
+    bool vertical = false;  // the support row on c̈_z (n unused): residual (c_z / g)((ε − 1) g − c̈_z)
   };
   const bool zmp_on = o.zmp_support.size() == static_cast<std::size_t>(T) && o.zmp_weight > 0 && o.fps > 0 && T >= 3;
   const double mass = m->body_subtreemass[model.root_body()];
   MatX q_all(model.nq(), zmp_on ? T : 0);
-  Mat3X com_all(3, zmp_on ? T : 0), L_all(3, zmp_on ? T : 0);
+  Mat3X com_all(3, zmp_on ? T : 0), L_half(3, zmp_on ? T - 1 : 0);  // L_half.col(f): between f and f + 1
+  MatX A_L_prev;
   // miss_out: the largest miss of a row the correction must meet (stance soles, limits, speed
   // limits, ZMP) in multiples of its tolerance: <= 1 when all are met.
   auto evaluate = [&](const MatX& D, std::vector<FrameRows>& rows_out, std::vector<std::uint8_t>& used,
@@ -158,11 +160,11 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
       q = zmp_on ? VecX(q_all.col(f)) : integrate(model, q_base.col(f), D.col(f), 1.0);
       update_kinematics(model, data, q);
       if (zmp_on) {
-        // The multibody ZMP's momenta exactly as multibody_zmp computes them: v by central
-        // differences, L = A_L(q) v.
-        const int a = std::max(f - 1, 0), b = std::min(f + 1, T - 1);
+        // The multibody ZMP's momenta exactly as multibody_zmp computes them (L at the half-frames).
         com_all.col(f) = com_position(model, data);
-        L_all.col(f) = centroidal_angular_matrix(model, data) * difference(model, q_all.col(a), q_all.col(b), (b - a) / o.fps);
+        MatX A_L = centroidal_angular_matrix(model, data);
+        if (f > 0) L_half.col(f - 1) = half_frame_angular_momentum(model, A_L_prev, A_L, q_all.col(f - 1), q_all.col(f), 1.0 / o.fps);
+        A_L_prev = std::move(A_L);
       }
       std::array<int, 2> skip{{-1, -1}};
       std::vector<std::pair<int, double>> min_height;
@@ -248,19 +250,18 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
           used[static_cast<std::size_t>(6 + i)] = 1;
         }
     if (zmp_on) {
-      // The multibody ZMP exactly as multibody_zmp computes it (c̈ and L̇ by central differences).
+      // The multibody ZMP exactly as multibody_zmp computes it.
       for (int f = 1; f + 1 < T; ++f) {
         const std::vector<HalfPlane>& support = o.zmp_support[static_cast<std::size_t>(f)];
         if (support.empty()) continue;
-        const Vec3 acc = (com_all.col(f + 1) - 2 * com_all.col(f) + com_all.col(f - 1)) * o.fps * o.fps;
-        const Vec3 dL = (L_all.col(f + 1) - L_all.col(f - 1)) * (0.5 * o.fps);
-        const double fz = std::max(kGravity + acc.z(), 0.1 * kGravity);
-        const Vec3& c = com_all.col(f);
-        const Vec2 p(c.x() - (c.z() * acc.x() + dL.y() / mass) / fz, c.y() - (c.z() * acc.y() - dL.x() / mass) / fz);
+        const ZmpSample z = zmp_sample(com_all.col(f - 1), com_all.col(f), com_all.col(f + 1), L_half.col(f - 1), L_half.col(f), mass, o.fps);
         for (const HalfPlane& hp : support) {
-          const double r = hp.n.dot(p) - hp.d;
-          if (r > 0) zmp_out.push_back({f, hp.n, r, c.z(), fz});
+          const double r = hp.n.dot(z.zmp_W) - hp.d;
+          if (r > 0) zmp_out.push_back({f, hp.n, r, com_all(2, f), z.vertical_accel});
         }
+        const double support_shortfall = o.zmp_min_support_g * kGravity - z.vertical_accel_raw;  // [m/s²]
+        if (support_shortfall > 0)
+          zmp_out.push_back({f, Vec2::Zero(), com_all(2, f) / kGravity * support_shortfall, com_all(2, f), z.vertical_accel, false, true});
       }
       for (const int f : {0, T - 1}) {
         if (!(f == 0 ? o.zmp_rest_start : o.zmp_rest_end)) continue;
@@ -397,10 +398,13 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
       // every coordinate is a variable once a ZMP row exists, so vars is the identity then.
       if (!zmp.empty()) {
         std::vector<MatX> J_com(static_cast<std::size_t>(T)), A_L(static_cast<std::size_t>(T));
+        std::vector<VecX> Jz_com(static_cast<std::size_t>(T));
         auto jacobians_at = [&](int k) {
           if (J_com[static_cast<std::size_t>(k)].size() > 0) return;
           update_kinematics(model, data, integrate(model, q_base.col(k), Delta.col(k), 1.0));
-          J_com[static_cast<std::size_t>(k)] = com_jacobian(model, data).topRows<2>();
+          const MatX J = com_jacobian(model, data);
+          J_com[static_cast<std::size_t>(k)] = J.topRows<2>();
+          Jz_com[static_cast<std::size_t>(k)] = J.row(2).transpose();
           A_L[static_cast<std::size_t>(k)] = centroidal_angular_matrix(model, data).topRows<2>();
         };
         const double f2 = o.fps * o.fps;
@@ -415,12 +419,18 @@ MatX solve_smooth_correction(const RobotModel& model, RobotData& data, const Mat
             continue;
           }
           for (int k = f - 1; k <= f + 1; ++k) jacobians_at(k);
+          if (z.vertical) {  // residual (c_z / g)(const − c̈_z): G_k = −(c_z / g) fps² J_z,k (1, −2, 1)
+            const double s = z.com_height_m / kGravity * f2;
+            for (int k = 0; k < 3; ++k)
+              G[static_cast<std::size_t>(k)] = (k == 1 ? 2 * s : -s) * Jz_com[static_cast<std::size_t>(f - 1 + k)];
+          } else {
           const double a = z.com_height_m / z.vertical_force * f2, l = f2 / (mass * z.vertical_force);
           const Vec2 s_n(-z.n.y(), z.n.x());  // nᵀ S, S L̇ = (L̇_y, −L̇_x)
           const VecX sA = A_L[static_cast<std::size_t>(f)].transpose() * s_n;
           for (int k = 0; k < 3; ++k) {
             const VecX nJ = J_com[static_cast<std::size_t>(f - 1 + k)].transpose() * z.n;
             G[static_cast<std::size_t>(k)] = k == 1 ? VecX((1 + 2 * a) * nJ + 2 * l * sA) : VecX(-a * nJ - l * sA);
+          }
           }
           const double w = o.zmp_weight;
           for (int k1 = 0; k1 < 3; ++k1) {

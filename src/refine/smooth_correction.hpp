@@ -20,7 +20,7 @@
 /// each half-plane nᵀp ≤ d that the motion's multibody ZMP p violates (centroidal.hpp: the
 /// metric's own finite differences at `fps`) is a one-sided row nᵀp − d. p depends on frames f − 1,
 /// f, f + 1 through the COM's second difference and the angular momentum rate; its Jacobian holds
-/// c_z / (g + c̈_z) fixed and takes L̇ ≈ A_L(q_f) (δ_f+1 − 2 δ_f + δ_f−1) fps² (A_L the centroidal
+/// c_z / (g + c̈_z) fixed and takes L̇ ≈ A_L(q_f) (δ_f+1 − 2 δ_f + δ_f−1) fps² (the compact stencil's leading term; A_L the centroidal
 /// angular momentum matrix), which keeps the normal equations block pentadiagonal; the cost is the
 /// exact one, so the backtracking judges every step by the real ZMP. These rows move every
 /// coordinate (the COM depends on all of them). A motion that must start (end) at rest gets, at its
@@ -64,6 +64,11 @@ struct CorrectionOptions {
   /// frame; an empty list: no ZMP rows at all), their weight [1/m²] and the motion's rate [Hz].
   std::vector<std::vector<HalfPlane>> zmp_support;
   double zmp_weight = 1e4;
+  /// At every frame with ZMP rows, the COM may not fall faster than (1 − this) g: the floor must
+  /// push with at least this fraction of the weight (one-sided row on c̈_z, scaled by c_z / g to
+  /// the ZMP rows' metres). Where it would push less the ZMP is ill-defined (the metric counts such
+  /// a frame as outside), and the clamped ZMP rows could be met by the angular momentum alone.
+  double zmp_min_support_g = 0.3;
   double fps = 0;
   /// The first / last frame is at rest: its COM (the ZMP of a body at rest) gets the ZMP rows.
   bool zmp_rest_start = false, zmp_rest_end = false;

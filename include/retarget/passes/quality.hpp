@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "retarget/balance/support_polygon.hpp"
+#include "retarget/model/centroidal.hpp"
 #include "retarget/pipeline/clip.hpp"
 
 namespace rt {
@@ -97,6 +99,11 @@ struct QualityMetrics {
 
 /// "Near the support" for the ZMP metric [m].
 constexpr double kZmpNear_m = 0.01;
+
+/// The ZMP metric's distance of frame f's multibody ZMP outside `support` [m] (negative inside). A
+/// frame the floor cannot hold (the body falls faster than (1 − kZmpMinSupport_g) g) has no ZMP:
+/// it counts as outside, by the clamped ZMP's distance and at least 2 kZmpNear_m.
+double zmp_distance_outside(const SupportPolygon& support, const MultibodyZmp& zmp, int f);
 
 /// Swing frames this close to a lift-off or touchdown [s] are exempt from the clearance metric.
 constexpr double kSwingGuard_s = 0.1;

@@ -7,8 +7,13 @@
 // with x_i the body's COM and L_i its spin (I_i ω_i, world axes). Prints, over the stance frames and
 // over single-support frames, the median size of each group's part and of the whole offset, and how far the
 // ZMP lies outside the labelled support. For diagnosing why a reference is not dynamically feasible.
+// The per-body sum is also a cross-check of the ZMP metric (passes/quality.hpp, model/centroidal.hpp:
+// centroidal momenta on a compact stencil, a frame the floor cannot hold counted as outside): both
+// counts of frames more than 1 cm outside are printed, and a reference whose motion zig-zags at the
+// frame rate shows as a difference between them.
 // With RT_PROBE_FRAMES set, one line per stance frame: time, contacts, the signed distance of the
-// ZMP and of the cart-table ZMP (COM only) from the support, the non-COM part's length.
+// metric's ZMP, of the per-body ZMP and of the cart-table ZMP (COM only) from the support, the
+// non-COM part's length.
 // A reference without a contact schedule (a third-party CSV) is labelled as `retarget validate` labels it.
 // Usage: probe_zmp_parts ROBOT REFERENCE(.csv with meta | .npz) [fps for a plain CSV]
 
@@ -26,6 +31,7 @@
 #include "retarget/model/kinematics.hpp"
 #include "retarget/model/robot_model.hpp"
 #include "retarget/passes/label_contacts.hpp"
+#include "retarget/passes/quality.hpp"
 #include "retarget/passes/stance_support.hpp"
 #include "retarget/reference/robot_mapping.hpp"
 #include "retarget/sim/reference_signal.hpp"
@@ -97,6 +103,7 @@ int main(int argc, char** argv) {
         spin[static_cast<std::size_t>(f)].col(b) = R * I.asDiagonal() * R.transpose() * w;
       }
     }
+    const MultibodyZmp metric = multibody_zmp(*model, data, q, fps);
     std::array<std::vector<std::uint8_t>, 2> contact = ref.contact;
     if (contact[0].empty()) contact = signal.contacts();
     // Per [stance, single support] x (group or all) x axis: the parts' sizes over the frames.
@@ -104,7 +111,7 @@ int main(int argc, char** argv) {
     double total_mass = 0;
     for (int b = 1; b < nb; ++b) total_mass += m->body_mass[b];
     int light = 0;
-    int n[2] = {0, 0}, outside[2] = {0, 0};
+    int n[2] = {0, 0}, outside[2] = {0, 0}, metric_outside[2] = {0, 0};
     double out_sum[2] = {0, 0};
     for (int f = 1; f + 1 < T; ++f) {
       const std::array<bool, 2> down{{contact[0][static_cast<std::size_t>(f)] != 0, contact[1][static_cast<std::size_t>(f)] != 0}};
@@ -132,10 +139,12 @@ int main(int argc, char** argv) {
       update_kinematics(*model, data, q.col(f));
       const SupportPolygon poly = stance_support_polygon(*model, data, down);
       const double dist = poly.signed_distance(c.head<2>() + total);
+      const double metric_dist = zmp_distance_outside(poly, metric, f);
       if (std::getenv("RT_PROBE_FRAMES")) {
         const Vec3 cm = (com[static_cast<std::size_t>(f + 1)] - 2 * c + com[static_cast<std::size_t>(f - 1)]) * fps * fps;
         const Vec2 cart = c.head<2>() - c.z() * cm.head<2>() / (kGravity + cm.z());
-        std::printf("%6.3f %d %d  zmp %7.3f  cart %7.3f  rest %6.3f  parts", f / fps, down[0], down[1], dist, poly.signed_distance(cart),
+        std::printf("%6.3f %d %d  metric %7.3f  zmp %7.3f  cart %7.3f  rest %6.3f  parts", f / fps, down[0], down[1], metric_dist,
+                    dist, poly.signed_distance(cart),
                     (c.head<2>() + total - cart).norm());
         const Vec2 o = poly.centroid();
         std::printf("  com-centroid (%6.3f %6.3f) zmp-centroid (%6.3f %6.3f)", c.x() - o.x(), c.y() - o.y(), c.x() + total.x() - o.x(),
@@ -145,7 +154,8 @@ int main(int argc, char** argv) {
       }
       for (int s = 0; s < (single ? 2 : 1); ++s) {
         ++n[s];
-        if (dist > 0.01) ++outside[s];
+        if (dist > kZmpNear_m) ++outside[s];
+        if (metric_dist > kZmpNear_m) ++metric_outside[s];
         out_sum[s] += std::max(dist, 0.0);
         for (int g = 0; g <= G; ++g) {
           const Vec2 p = g < G ? part[static_cast<std::size_t>(g)] : total;
@@ -162,8 +172,9 @@ int main(int argc, char** argv) {
     std::printf("%d stance frames whose ground force is below half the weight (the body falls faster than g/2)\n", light);
     for (int s = 0; s < 2; ++s) {
       if (n[s] == 0) continue;
-      std::printf("%s frames %d: ZMP > 1 cm outside on %d (%.0f %%), mean distance outside %.1f mm\n",
-                  s ? "single-support" : "stance", n[s], outside[s], 100.0 * outside[s] / n[s], 1e3 * out_sum[s] / n[s]);
+      std::printf("%s frames %d: ZMP > 1 cm outside on %d (%.0f %%), mean distance outside %.1f mm; the metric's ZMP on %d (%.0f %%)\n",
+                  s ? "single-support" : "stance", n[s], outside[s], 100.0 * outside[s] / n[s], 1e3 * out_sum[s] / n[s],
+                  metric_outside[s], 100.0 * metric_outside[s] / n[s]);
       std::printf("  median size of the ZMP offset from the COM projection [mm], x / y:\n");
       for (const auto& [name, g] : index) std::printf("    %-10s %7.1f %7.1f\n", name.c_str(), median(s, g, 0), median(s, g, 1));
       std::printf("    %-10s %7.1f %7.1f\n", "all", median(s, G, 0), median(s, G, 1));
