@@ -595,6 +595,22 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
     stages_dropping_landmarks += !held;
     return held;
   };
+  // Issue 13's stance drift (the summary's metric: a stance sole centre's or heel's travel from where
+  // its phase began): a result may not take it beyond foot_tolerance, or beyond the input's where
+  // that already was. Holding each frame within foot_tolerance of the input is not enough: the
+  // input's own drift and the result's can add up.
+  auto stance_drift = [&](const MatX& q) {
+    const QualityMetrics m =
+        foot_metrics(model, data, q, fps, labelled ? work.contacts.in_contact : std::array<std::vector<std::uint8_t>, 2>{}, true);
+    return std::max(m.foot_skating_max_m, m.heel_skating_max_m);
+  };
+  const double drift_bound = std::max(options_.foot_tolerance_m, stance_drift(q_in));
+  int results_dropping_drift = 0;
+  auto drift_held = [&](const MatX& q) {
+    const bool held = stance_drift(q) <= drift_bound;
+    results_dropping_drift += !held;
+    return held;
+  };
   // Per foot and frame, the height of the sole's lowest corner where it swings (+inf in stance).
   auto lowest_swing_corners = [&](const MatX& q) {
     std::array<std::vector<double>, 2> z;
@@ -643,7 +659,7 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
     // the ZMP; the retargeted motion itself is the first candidate.
     const bool soles_held = followed.max_foot_error_m <= options_.foot_tolerance_m;
     if (!soles_held) ++rounds_dropping_soles;
-    if (soles_held && now.better_than(best) && landmarks_held(followed.q)) {
+    if (soles_held && now.better_than(best) && landmarks_held(followed.q) && drift_held(followed.q)) {
       best = now;
       best_follow = std::move(followed);
       best_realised = realised;
@@ -801,7 +817,7 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
     const Score before_1cm = score_zmp(frames.polygon, best_realised, kZmpNear_m),
                 after_1cm = score_zmp(frames.polygon, z1, kZmpNear_m);
     const bool kept = sole_move <= options_.foot_tolerance_m && sole_turn <= kStanceAngle_rad && tilt_excess <= 0 && swing_dip <= 0 &&
-                      after_1cm.better_than(before_1cm) && landmarks_held(q1);
+                      after_1cm.better_than(before_1cm) && landmarks_held(q1) && drift_held(q1);
     ctx.statistics.set("whole-body-zmp", after_1cm.outside, "frames",
                        format("stance frames more than 1 cm outside after the whole-body stage, %d before (%s; %d iterations, "
                               "%d rows left, worst %.3f m; sole move %.4f m, turn %.2f deg, tilt %.2f deg over, swing sole "
@@ -857,6 +873,9 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
   if (rounds_dropping_soles > 0)
     ctx.diagnostics.warn(where, format("com-plan: %d round(s) dropped: following the plan would have moved a held sole by more "
                                        "than %.1f mm", rounds_dropping_soles, 1e3 * options_.foot_tolerance_m));
+  if (results_dropping_drift > 0)
+    ctx.diagnostics.warn(where, format("com-plan: %d result(s) dropped: a stance sole would have drifted more than %.1f mm from "
+                                       "where its stance began", results_dropping_drift, 1e3 * drift_bound));
   if (unchanged)
     ctx.diagnostics.warn(where, "com-plan: no plan moved the ZMP into the support on more frames with the soles held; the "
                                 "motion is left as it was");

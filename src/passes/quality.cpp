@@ -52,7 +52,7 @@ double joint_jitter(const MatX& q, double fps) {
 }
 
 QualityMetrics foot_metrics(const RobotModel& model, RobotData& data, const MatX& q, double fps,
-                            const std::array<std::vector<std::uint8_t>, 2>& contacts) {
+                            const std::array<std::vector<std::uint8_t>, 2>& contacts, bool stance_only) {
   QualityMetrics m;
   const int T = static_cast<int>(q.cols());
   if (T == 0) return m;
@@ -95,7 +95,7 @@ QualityMetrics foot_metrics(const RobotModel& model, RobotData& data, const MatX
   int flight_run = 0, longest_flight = 0;
   for (int f = 0; f < T; ++f) {
     update_kinematics(model, data, q.col(f));
-    const LowestPoint low = lowest_collision_point(model, data);
+    const LowestPoint low = stance_only ? LowestPoint{} : lowest_collision_point(model, data);
     if (low.link >= 0 && low.z_m < m.lowest_point_m) {
       m.lowest_point_m = low.z_m;
       m.lowest_link = model.links()[static_cast<std::size_t>(low.link)].name;
@@ -159,7 +159,7 @@ QualityMetrics foot_metrics(const RobotModel& model, RobotData& data, const MatX
     m.frame0_sole_tilt_deg = std::max(m.frame0_sole_tilt_deg, tilt * 180 / M_PI);
     if (std::abs(height) > std::abs(m.frame0_sole_height_m)) m.frame0_sole_height_m = height;
   }
-  add_zmp_metrics(model, data, q, fps, contacts, m);
+  if (!stance_only) add_zmp_metrics(model, data, q, fps, contacts, m);
   return m;
 }
 

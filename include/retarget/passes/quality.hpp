@@ -114,9 +114,11 @@ QualityMetrics compute_quality(const RobotModel& model, RobotData& data, const C
 
 /// The foot and floor metrics (skating, stance yaw/tilt/height, penetration, lowest point, swing
 /// clearance, frames without stance, frame-0 flatness, ZMP) of a motion `q` (nq x T) at `fps` with its
-/// contact labels (may be empty); the other fields of the result stay 0.
+/// contact labels (may be empty); the other fields of the result stay 0. stance_only: for a caller
+/// that needs the stance metrics alone, the costly parts they do not need are skipped (the lowest
+/// point of the collision geometry and the ZMP; those fields keep their defaults).
 QualityMetrics foot_metrics(const RobotModel& model, RobotData& data, const MatX& q, double fps,
-                            const std::array<std::vector<std::uint8_t>, 2>& contacts);
+                            const std::array<std::vector<std::uint8_t>, 2>& contacts, bool stance_only = false);
 
 /// The ZMP fields of QualityMetrics for a motion `q` (nq x T) at `fps` with its contact labels
 /// (written into `m`; nothing when the labels are empty). Updates `data`.
