@@ -107,14 +107,15 @@ struct ComPlanPassOptions {
   /// margin), the stage is solved again with at most this many more steps while a ZMP, stance or
   /// limit row is still missed, a step that no backtracking makes cheaper being retried damped
   /// (Levenberg–Marquardt, refine's `hold_iterations` mechanism, smooth_correction.hpp) instead of
-  /// ending the stage. Plain Gauss–Newton stopped humanoid25's PyMO walk after 7 iterations at 83 %
-  /// of the stance frames within 1 cm, JVRC-1's after 4 at 91 %; with the retries 94 % and 98 %.
-  /// Where every row is within 1 cm already the retries only polish (G1's CMU walk: 200 ms more,
-  /// no frame gained), so they are not run there. 0: plain Gauss–Newton only. The stage is also
+  /// ending the stage. Measured with the compact-stencil ZMP (2026-12-07; plain Gauss–Newton, 5, 20
+  /// further steps): JVRC-1's PyMO walk 93, 100, 100 % of the stance frames within 1 cm,
+  /// humanoid25's 86, 90, 95 %, its CMU walk 94, 100, 100 %; the stage stops by itself on the
+  /// LAFAN1 dance (15 steps, G1). Where every row is within 1 cm already the retries only polish (G1's CMU walk:
+  /// 200 ms more, no frame gained), so they are not run there. 0: plain Gauss–Newton only. The stage is also
   /// dropped where it turns a stance sole by more than 0.5° or tilts one beyond 0.5° (issue 13's
   /// bars; more than it was, where it already was): on H1's mocap36 gait the retries reached 65 %
   /// with a sole tilted 0.61°.
-  int whole_body_extra_iterations = 5;
+  int whole_body_extra_iterations = 20;
   double whole_body_zmp_weight = 1e4;    ///< [1/m²] weight of a ZMP half-plane row
   double whole_body_smoothing_hz = 1.0;  ///< [Hz] cutoff of the correction's smoothness term
   /// [Hz] the export rate (the resample pass's; `--fps` sets both): the pass works on that grid,
