@@ -20,11 +20,13 @@
 /// each half-plane nᵀp ≤ d that the motion's multibody ZMP p violates (centroidal.hpp: the
 /// metric's own finite differences at `fps`) is a one-sided row nᵀp − d. p depends on frames f − 1,
 /// f, f + 1 through the COM's second difference and the angular momentum rate; its Jacobian holds
-/// c_z / (g + c̈_z) fixed and takes L̇ ≈ A_L(q_f) (δ_f+1 − 2 δ_f + δ_f−1) fps² (the compact stencil's leading term; A_L the centroidal
-/// angular momentum matrix), which keeps the normal equations block pentadiagonal; the cost is the
-/// exact one, so the backtracking judges every step by the real ZMP. These rows move every
-/// coordinate (the COM depends on all of them). A motion that must start (end) at rest gets, at its
-/// first (last) frame, the static rows nᵀc − d on its COM instead: at rest the ZMP is the COM.
+/// c_z / (g + c̈_z) fixed and takes L̇ ≈ A_L(q_f) (δ_f+1 − 2 δ_f + δ_f−1) fps² (the compact
+/// stencil's leading term; A_L the centroidal angular momentum matrix), which keeps the normal
+/// equations block pentadiagonal; the cost is the exact one, so the backtracking judges every step
+/// by the real ZMP. A frame whose COM falls faster than (1 − zmp_min_support_g) g also gets a
+/// one-sided row on c̈_z. These rows move every coordinate (the COM depends on all of them). A
+/// motion that must start (end) at rest gets, at its first (last) frame, the static rows nᵀc − d on
+/// its COM instead: at rest the ZMP is the COM.
 ///
 /// Gauss–Newton: the rows are linearised at the current Δ, and the normal equations — block
 /// pentadiagonal over frames, each block over the coordinates any row can move (the root, the legs,

@@ -35,17 +35,20 @@
 ///     repeat until that ZMP is inside the (unshrunk) support on every stance frame, or
 ///     `iterations` times. The round with the fewest stance frames outside is kept, if it holds
 ///     the soles to `foot_tolerance`, keeps the landmark error median within
-///     `max_landmark_growth` of the input's and beats the retargeted motion.
+///     `max_landmark_growth` of the input's, keeps each stance sole's drift since its touchdown
+///     within max(`foot_tolerance`, the input's) and beats the retargeted motion.
 ///  5. Whole-body stage: the angular-momentum part that the rounds only predict (each round's IK
 ///     changes it) is removed by refine's smooth joint-space correction with one-sided multibody
 ///     ZMP rows (src/refine/smooth_correction.hpp): the smallest smooth change whose ZMP, by the
-///     frames' own finite differences, lies inside the shrunk support, stance soles held, swing
+///     frames' own finite differences, lies inside the shrunk support (and whose COM does not
+///     fall faster than 0.7 g where there is a support), stance soles held, swing
 ///     soles on their paths, floor, limits and speed limits kept (rows that are penalties: joints
 ///     are then clamped to their limits, frames whose stance soles gave are projected back onto
 ///     them, swing soles that came below the 1.5 cm clearance, or more than `foot_tolerance`
 ///     below where they were near lift-off and touchdown, are lifted back, and steps are cut to
-///     the speed limits). Kept if the ZMP improves, the stance soles hold to `foot_tolerance`, no
-///     swing sole stays too low and the landmarks hold to `max_landmark_growth`.
+///     the speed limits). Kept if the ZMP improves, the stance soles hold to `foot_tolerance` (and
+///     their drift as in 4), no swing sole stays too low and the landmarks hold to
+///     `max_landmark_growth`.
 ///  If neither 4 nor 5 is kept, the clip is left as it came (with a warning).
 ///
 /// The planned COM (3 x T: plan x, y; the low-passed height) and the plan's ZMP go to the
@@ -110,8 +113,9 @@ struct ComPlanPassOptions {
   /// ending the stage. Measured with the compact-stencil ZMP (2026-12-07; plain Gauss–Newton, 5, 20
   /// further steps): JVRC-1's PyMO walk 93, 100, 100 % of the stance frames within 1 cm,
   /// humanoid25's 86, 90, 95 %, its CMU walk 94, 100, 100 %; the stage stops by itself on the
-  /// LAFAN1 dance (15 steps, G1). Where every row is within 1 cm already the retries only polish (G1's CMU walk:
-  /// 200 ms more, no frame gained), so they are not run there. 0: plain Gauss–Newton only. The stage is also
+  /// LAFAN1 dance (15 steps, G1). Where every row is within 1 cm already the retries only polish
+  /// (G1's CMU walk: 200 ms more, no frame gained), so they are not run there. 0: plain
+  /// Gauss–Newton only. The stage is also
   /// dropped where it turns a stance sole by more than 0.5° or tilts one beyond 0.5° (issue 13's
   /// bars; more than it was, where it already was): on H1's mocap36 gait the retries reached 65 %
   /// with a sole tilted 0.61°.
