@@ -214,11 +214,10 @@ TEST(ComPlanPass, AddsAStandingLeadWhereAGaitStartsAndEndsMidStride) {
 }
 
 // The whole-body stage's Gauss–Newton steps stall on JVRC-1's PyMO walk (no step along the
-// direction lowers the cost while ZMP rows are missed): plain, it stopped after 4 iterations at 92 %
-// of the stance frames within 1 cm. Retried damped (`whole_body_extra_iterations`, the default 5), it
-// goes on to 98 % (97 % in single support; 10 or 20 iterations, 97.8-98.5 %, as builds round
-// differently: the stage's end is that sensitive), the stance soles held and no swing sole low. The
-// referee's 95 % is asserted, and a clear gain over the stalled stage.
+// direction lowers the cost while ZMP rows are missed): plain, it stops at 93 % of the stance frames
+// within 1 cm (compact-stencil ZMP, 2026-12-07). Retried damped (`whole_body_extra_iterations`, the
+// default 20), it goes on to 100 %, the stance soles held and no swing sole low. 98 % is asserted,
+// and a clear gain over the stalled stage.
 TEST(ComPlanPass, RetriesAStalledWholeBodyStepDamped) {
   RT_REQUIRE_SHARED(clip, "bvh/pymo_AV_8Walk_Meredith_HVHA_Rep1.bvh");
   RT_REQUIRE_SHARED(robots, "robots");
@@ -229,9 +228,11 @@ TEST(ComPlanPass, RetriesAStalledWholeBodyStepDamped) {
   std::cout << "[ measured ] ZMP within 1 cm: plain Gauss-Newton " << stalled.quality.zmp_near_fraction << " (single support "
             << stalled.quality.zmp_single_near_fraction << "), damped retries " << damped.quality.zmp_near_fraction << " ("
             << damped.quality.zmp_single_near_fraction << ")\n";
-  EXPECT_LT(stalled.quality.zmp_near_fraction, 0.95);
-  EXPECT_GT(damped.quality.zmp_near_fraction, stalled.quality.zmp_near_fraction + 0.04);
-  EXPECT_GT(damped.quality.zmp_near_fraction, 0.95);
+  // Where plain Gauss-Newton ends depends on the build's floating-point path (Release 93 %, the
+  // sanitizer build 96 %); the retries reach 100 % and 99.7 %.
+  EXPECT_LT(stalled.quality.zmp_near_fraction, 0.98);
+  EXPECT_GT(damped.quality.zmp_near_fraction, stalled.quality.zmp_near_fraction + 0.02);
+  EXPECT_GT(damped.quality.zmp_near_fraction, 0.98);
   EXPECT_GT(damped.quality.zmp_single_near_fraction, 0.95);
   EXPECT_LT(damped.quality.landmark_error_median_m, plain.quality.landmark_error_median_m + 0.02);
   EXPECT_LE(damped.quality.foot_skating_max_m, 0.001);
