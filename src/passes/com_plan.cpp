@@ -14,6 +14,7 @@
 #include "retarget/ik/foot_down.hpp"
 #include "retarget/ik/landmark_ik.hpp"
 #include "retarget/model/centroidal.hpp"
+#include "retarget/model/collision_hull.hpp"
 #include "retarget/model/kinematics.hpp"
 #include "retarget/model/robot_model.hpp"
 #include "retarget/model/sole_geometry.hpp"
@@ -95,12 +96,23 @@ bool on_a_foot(const RobotModel& model, int link) {
   return false;
 }
 
+// ZmpPlanSample::com_weight_scale of a pinned plan sample: far above the ZMP rows' penalty (1e6),
+// so the plan keeps the retargeted COM there and bends towards it around.
+constexpr double kPinnedComWeightScale = 1e8;
+// [m] how far below the floor a collision point may go (issue 13's floor bar).
+constexpr double kFloorTolerance_m = 0.002;
+// Frames either side of one that keeps its input pose that keep theirs too: the IK's frame-to-frame
+// velocity bounds need a frame or two to rejoin it.
+constexpr int kKeptMargin = 2;
+
 struct Follow {
   MatX q;
   int missed_frames = 0;       ///< |COM − plan| > follow tolerance
   double max_miss_m = 0;
   double max_miss_time_s = 0;
   double max_foot_error_m = 0;  ///< largest sole-centre move from its held pose
+  std::vector<double> foot_error_m;  ///< per frame: the largest sole-centre move from its held pose
+  std::vector<std::uint8_t> kept_as_input;  ///< per frame (empty: none): the input pose kept
 };
 
 struct Frames {
@@ -115,6 +127,45 @@ struct Score {
   double worst_m = 0;
   bool better_than(const Score& o) const { return outside < o.outside || (outside == o.outside && worst_m < o.worst_m); }
 };
+// Per foot and frame: how far the sole's centre or heel (the larger) has moved horizontally since
+// its stance began (the summary's stance drift, quality.cpp); 0 where the foot swings.
+std::array<std::vector<double>, 2> stance_travel(const RobotModel& model, RobotData& data, const MatX& q,
+                                                 const std::array<std::vector<std::uint8_t>, 2>& contacts,
+                                                 const std::array<Mat3, 2>& R_L_sole) {
+  const int T = static_cast<int>(q.cols());
+  std::array<std::vector<double>, 2> travel;
+  for (auto& t : travel) t.assign(static_cast<std::size_t>(T), 0.0);
+  std::array<Vec2, 2> start_centre{}, start_heel{};
+  for (int f = 0; f < T; ++f) {
+    const auto fi = static_cast<std::size_t>(f);
+    if (!contacts[0][fi] && !contacts[1][fi]) continue;
+    update_kinematics(model, data, q.col(f));
+    for (std::size_t foot = 0; foot < 2; ++foot) {
+      if (!contacts[foot][fi]) continue;
+      const Sole& sole = model.soles()[foot];
+      const Iso3 X = sole_frame_W(model, data, static_cast<int>(foot), R_L_sole[foot]);
+      const Vec2 centre = X.translation().head<2>();
+      const Vec2 heel = (X * Vec3(-0.5 * sole.size_m.x(), 0, 0)).head<2>();
+      if (f == 0 || !contacts[foot][fi - 1]) {
+        start_centre[foot] = centre;
+        start_heel[foot] = heel;
+      }
+      travel[foot][fi] = std::max((centre - start_centre[foot]).norm(), (heel - start_heel[foot]).norm());
+    }
+  }
+  return travel;
+}
+
+// Per frame, the height of the robot's lowest collision point [m] (negative: below the floor).
+std::vector<double> lowest_points(const RobotModel& model, RobotData& data, const MatX& q) {
+  std::vector<double> z(static_cast<std::size_t>(q.cols()));
+  for (int f = 0; f < q.cols(); ++f) {
+    update_kinematics(model, data, q.col(f));
+    z[static_cast<std::size_t>(f)] = lowest_collision_point(model, data).z_m;
+  }
+  return z;
+}
+
 Score score_zmp(const std::vector<SupportPolygon>& polygons, const MultibodyZmp& zmp, double tolerance_m) {
   Score s;
   const int T = static_cast<int>(polygons.size());
@@ -149,6 +200,14 @@ ComPlanPass::ComPlanPass() {
              {0, 1, "s"});
   table_.add("max_offset", options_.max_offset_m, "[m] longest angular-momentum ZMP correction used by the plan");
   table_.add("iterations", options_.iterations, "plan + COM-following rounds of the multibody correction", {0, 100, ""});
+  table_.add("repairs", options_.repairs,
+             "a round that moves a held sole is re-planned with the COM pinned there, then followed again up to this many "
+             "times with the frames that still give left as they came (0: dropped)",
+             {0, 20, ""});
+  table_.add("pin_window", options_.pin_window_s, "[s] plan samples this near a frame whose held sole gave are pinned",
+             {0, 5, "s"});
+  table_.add("whole_body_give_back", options_.whole_body_give_back,
+             "frames where the whole-body stage breaks a sole take the rounds' motion back (false: such a stage is dropped)");
   table_.add("com_weight", options_.com_weight, "COM-following IK: weight of the COM target");
   table_.add("foot_weight", options_.foot_weight, "COM-following IK: weight holding the soles");
   table_.add("landmark_factor", options_.landmark_factor, "COM-following IK: factor on the other landmarks' weights");
@@ -512,17 +571,42 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
   const LandmarkIk first_ik(model, first_ik_options);
   const bool have_landmarks = work.targets[Landmark::Pelvis].present && work.targets[Landmark::Pelvis].p_W.cols() == T;
   const VecX& v_max = model.velocity_limits();
-  // Each frame starts from the low-passed pose plus the previous frame's correction.
-  auto follow = [&](const Eigen::Matrix2Xd& com_target) {
+  // Each frame starts from the low-passed pose plus the previous frame's correction; frames marked in
+  // `kept_as_input` (empty: none) keep their input pose (see ComPlanPassOptions::repairs).
+  auto follow = [&](const Eigen::Matrix2Xd& com_target, const std::vector<std::uint8_t>& kept_as_input, bool repairing) {
     Follow out;
     out.q = q_in;
+    out.foot_error_m.assign(static_cast<std::size_t>(T), 0.0);
+    out.kept_as_input = kept_as_input;
     VecX correction = VecX::Zero(model.nv());
     IkJointBounds bounds;
     bounds.lower.resize(model.nu());
     bounds.upper.resize(model.nu());
     std::vector<IkTarget> targets;
+    // Frames to the nearest kept frame: the `ramp` frames either side of a kept passage follow a
+    // pose and a COM blended (a raised cosine) from the low-passed ones towards the input's, so the
+    // motion joins the kept frames without a jump, its soles held by the IK.
+    const int ramp = std::max(2, static_cast<int>(std::lround(0.1 * fps)));
+    std::vector<int> to_kept(static_cast<std::size_t>(T), std::numeric_limits<int>::max()), until_kept = to_kept;
+    if (!kept_as_input.empty()) {
+      for (int f = T - 1, next = -1; f >= 0; --f) {
+        if (kept_as_input[static_cast<std::size_t>(f)]) next = f;
+        if (next >= 0) until_kept[static_cast<std::size_t>(f)] = next - f;
+      }
+      for (int f = 0, last = -1; f < T; ++f) {
+        if (kept_as_input[static_cast<std::size_t>(f)]) last = f;
+        to_kept[static_cast<std::size_t>(f)] = std::min(until_kept[static_cast<std::size_t>(f)], last >= 0 ? f - last : std::numeric_limits<int>::max());
+      }
+    }
     for (int f = 0; f < T; ++f) {
-      const VecX q_frame = q_smooth.col(f);
+      const int d = to_kept[static_cast<std::size_t>(f)];
+      if (d == 0) {  // out.q is q_in there
+        correction = difference(model, q_smooth.col(f), q_in.col(f), 1.0);
+        continue;
+      }
+      const double u = d <= ramp ? 0.5 * (1 + std::cos(M_PI * d / (ramp + 1))) : 0.0;
+      const VecX q_frame = u > 0 ? integrate(model, q_smooth.col(f), difference(model, q_smooth.col(f), q_in.col(f), 1.0), u)
+                                 : VecX(q_smooth.col(f));
       targets.assign(frames.soles[static_cast<std::size_t>(f)].begin(), frames.soles[static_cast<std::size_t>(f)].end());
       if (have_landmarks)
         for (IkTarget t : make_ik_targets(model, ik, work.targets, f, 0.5)) {
@@ -533,21 +617,47 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
         }
       IkComTarget com;
       com.p_W << com_target.col(f), com_z[f];
+      if (u > 0) com.p_W = (1 - u) * com.p_W + u * original.com_W.col(f);
       com.weight = options_.com_weight;
       com.horizontal_only = false;
       const IkJointBounds* b = nullptr;
-      if (f > 0) {
+      const int ahead = until_kept[static_cast<std::size_t>(f)];  // frames to the next kept one
+      if (f > 0 || ahead <= ramp) {
         for (int i = 0; i < model.nu(); ++i) {
-          const double step = v_max[i] > 0 ? std::max((1 - options_.velocity_margin) * v_max[i] / fps,
-                                                      std::abs(q_in(7 + i, f) - q_in(7 + i, f - 1)))
-                                           : INFINITY;
-          bounds.lower[i] = out.q(7 + i, f - 1) - step;
-          bounds.upper[i] = out.q(7 + i, f - 1) + step;
+          const double limit_step = v_max[i] > 0 ? (1 - options_.velocity_margin) * v_max[i] / fps : INFINITY;
+          double lo = -INFINITY, hi = INFINITY;
+          if (f > 0) {
+            const double step = std::max(limit_step, std::abs(q_in(7 + i, f) - q_in(7 + i, f - 1)));
+            lo = out.q(7 + i, f - 1) - step;
+            hi = out.q(7 + i, f - 1) + step;
+          }
+          // ... and within reach of the next kept frame at the speed limits (where both cannot
+          // hold, half way between them).
+          if (ahead <= ramp) {
+            const double target = q_in(7 + i, f + ahead);
+            const double lo_k = target - ahead * limit_step, hi_k = target + ahead * limit_step;
+            const double lo2 = std::max(lo, lo_k), hi2 = std::min(hi, hi_k);
+            if (lo2 <= hi2) {
+              lo = lo2;
+              hi = hi2;
+            } else {
+              lo = hi = 0.5 * (lo2 + hi2);
+            }
+          }
+          bounds.lower[i] = lo;
+          bounds.upper[i] = hi;
         }
         b = &bounds;
       }
       VecX q = integrate(model, q_frame, correction, 1.0);
-      (f == 0 ? first_ik : ik).solve(data, targets, q_frame, q, com, {}, b);
+      // In a repair, the floor as firm as the soles (stance soles, held by their targets, left out):
+      // a pinned COM or a frame joining a kept one must not be bought by a hand or a knee through
+      // the floor. (Elsewhere the whole-body stage's floor rows hold it, as they always did.)
+      IkFloorTerm floor;
+      if (repairing) floor.weight = options_.foot_weight;
+      for (std::size_t foot = 0; foot < 2; ++foot)
+        if (!labelled || work.contacts.in_contact[foot][static_cast<std::size_t>(f)]) floor.skip_links[foot] = model.soles()[foot].link;
+      (f == 0 ? first_ik : ik).solve(data, targets, q_frame, q, com, floor, b);
       update_kinematics(model, data, q);
       const double miss = (com_position(model, data) - com.p_W).norm();
       if (miss > options_.follow_tolerance_m) ++out.missed_frames;
@@ -556,7 +666,8 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
         out.max_miss_time_s = f / fps;
       }
       for (const IkTarget& s : frames.soles[static_cast<std::size_t>(f)])
-        out.max_foot_error_m = std::max(out.max_foot_error_m, (link_point(model, data, s.link, s.p_L) - s.p_W).norm());
+        out.foot_error_m[static_cast<std::size_t>(f)] = std::max(out.foot_error_m[static_cast<std::size_t>(f)], (link_point(model, data, s.link, s.p_L) - s.p_W).norm());
+      out.max_foot_error_m = std::max(out.max_foot_error_m, out.foot_error_m[static_cast<std::size_t>(f)]);
       correction = difference(model, q_frame, q, 1.0);
       out.q.col(f) = q;
     }
@@ -629,64 +740,183 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
   };
   double max_plan_violation = 0;
   timer.lap(ms_setup);
-  for (int round = 0; round < options_.iterations; ++round) {
-    const ZmpPlan plan = plan_com_zmp(samples, plan_options);
-    timer.lap(ms_plan);
-    ++rounds;
-    qp_iterations += plan.solver.iterations;
-    if (plan.solver.status != SparseQpStatus::Solved && qp_trouble.empty())
-      qp_trouble = format("round %d: %s after %d iterations", round + 1, sparse_qp_status_name(plan.solver.status),
-                          plan.solver.iterations);
-    if (plan.solver.status == SparseQpStatus::Failed) break;
-    max_plan_violation = std::max(max_plan_violation, plan.max_violation_m);
-    Eigen::Matrix2Xd com_target(2, T), zmp_plan(2, T);
+  // Per frame, how low a result may take the robot's lowest point: issue 13's floor tolerance (2 mm)
+  // or, where the input already was lower, foot_tolerance below that.
+  std::vector<double> floor_at = lowest_points(model, data, q_in);
+  for (double& z : floor_at) z = std::min(-kFloorTolerance_m, z - options_.foot_tolerance_m);
+  // Per frame, what gave in a followed motion: bit 0, a held sole moved beyond foot_tolerance or
+  // (in a repair) the body went below floor_at; bit 1 (2), the left (right) stance sole's drift went
+  // beyond drift_bound.
+  auto soles_gave = [&](const Follow& followed, bool repairing) {
+    std::vector<std::uint8_t> gave(static_cast<std::size_t>(T), 0);
+    const std::vector<double> low = repairing ? lowest_points(model, data, followed.q) : std::vector<double>(static_cast<std::size_t>(T), 0.0);
     for (int f = 0; f < T; ++f) {
-      com_target.col(f) = at_time(plan.com_W, 1 / dt, f / fps);
-      zmp_plan.col(f) = at_time(plan.zmp_W, 1 / dt, f / fps);
+      const auto fi = static_cast<std::size_t>(f);
+      gave[fi] = followed.foot_error_m[fi] > options_.foot_tolerance_m || low[fi] < floor_at[fi];
     }
-    Follow followed = follow(com_target);
+    if (!labelled) return gave;
+    const auto travel = stance_travel(model, data, followed.q, work.contacts.in_contact, R_L_sole);
+    for (std::size_t foot = 0; foot < 2; ++foot)
+      for (std::size_t f = 0; f < static_cast<std::size_t>(T); ++f)
+        if (travel[foot][f] > drift_bound) gave[f] |= static_cast<std::uint8_t>(2 << foot);
+    return gave;
+  };
+  auto any_of = [](const std::vector<std::uint8_t>& v) { return std::any_of(v.begin(), v.end(), [](std::uint8_t x) { return x != 0; }); };
+  // A plan on `s`, followed with the frames marked in `kept` left as they came; false where the QP failed.
+  struct Candidate {
+    ZmpPlan plan;
+    Eigen::Matrix2Xd com_target, zmp_plan;
+    Follow follow;
+  };
+  auto plan_and_follow = [&](const std::vector<ZmpPlanSample>& s, const std::vector<std::uint8_t>& kept, bool repairing, int round,
+                             Candidate& c) {
+    c.plan = plan_com_zmp(s, plan_options);
+    timer.lap(ms_plan);
+    qp_iterations += c.plan.solver.iterations;
+    if (c.plan.solver.status != SparseQpStatus::Solved && qp_trouble.empty())
+      qp_trouble = format("round %d: %s after %d iterations", round + 1, sparse_qp_status_name(c.plan.solver.status),
+                          c.plan.solver.iterations);
+    if (c.plan.solver.status == SparseQpStatus::Failed) return false;
+    max_plan_violation = std::max(max_plan_violation, c.plan.max_violation_m);
+    c.com_target.resize(2, T);
+    c.zmp_plan.resize(2, T);
+    for (int f = 0; f < T; ++f) {
+      c.com_target.col(f) = at_time(c.plan.com_W, 1 / dt, f / fps);
+      c.zmp_plan.col(f) = at_time(c.plan.zmp_W, 1 / dt, f / fps);
+    }
+    c.follow = follow(c.com_target, kept, repairing);
     timer.lap(ms_follow);
-    const MultibodyZmp realised = multibody_zmp(model, data, followed.q, fps);
-    const Score now = score(realised);
-    {
-      const Eigen::Matrix2Xd part = realised.zmp_W - cart_table_zmp(realised.com_W.topRows<2>(), realised.zmp_gain_s2, fps);
-      std::vector<double> len;
-      for (int f = 0; f < T; ++f) len.push_back(part.col(f).norm());
-      std::nth_element(len.begin(), len.begin() + T / 2, len.end());
-      round_outside += format("%s%d (angular part median %.3f m)", round ? ", " : "", now.outside, len[static_cast<std::size_t>(T / 2)]);
+    return true;
+  };
+  // Repair (ComPlanPassOptions::repairs) of a round whose followed motion gave: on a copy of the
+  // samples, those within pin_window of each frame that gave are pinned to the retargeted COM and
+  // the plan is solved and followed again; then, up to `repairs` times, the frames that still give
+  // keep their input pose, with kKeptMargin frames either side (the legs cannot hold the soles
+  // there, e.g. where the input has a glitch that the low-pass smooths), and a kept frame whose
+  // stance still drifts (measured from a followed touchdown) keeps that whole stance, and the same
+  // plan is followed again. True with `out` where nothing gives any more.
+  int repaired_rounds = 0, repair_follows = 0, pinned_samples = 0, kept_frames = 0, rough_repairs = 0;
+  const double jitter_in = joint_jitter(q_in, fps);
+  auto repair = [&](const Candidate& first, int round, Candidate& out) {
+    std::vector<ZmpPlanSample> s = samples;
+    std::vector<std::uint8_t> kept(static_cast<std::size_t>(T), 0);
+    std::vector<std::uint8_t> gave = soles_gave(first.follow, false);
+    const int reach = static_cast<int>(std::floor(options_.pin_window_s / dt + 1e-9));
+    int pinned = 0;
+    for (int f = 0; f < T; ++f) {
+      if (!gave[static_cast<std::size_t>(f)]) continue;
+      const int centre = std::min(K - 1, static_cast<int>(std::lround(f / fps / dt)));
+      for (int k = std::max(0, centre - reach); k <= std::min(K - 1, centre + reach); ++k) {
+        pinned += s[static_cast<std::size_t>(k)].com_weight_scale != kPinnedComWeightScale;
+        s[static_cast<std::size_t>(k)].com_weight_scale = kPinnedComWeightScale;
+      }
     }
-    // A round is kept only if it holds the soles (stance fixed, swing on its path) and improves
-    // the ZMP; the retargeted motion itself is the first candidate.
-    const bool soles_held = followed.max_foot_error_m <= options_.foot_tolerance_m;
-    if (!soles_held) ++rounds_dropping_soles;
-    if (soles_held && now.better_than(best) && landmarks_held(followed.q) && drift_held(followed.q)) {
-      best = now;
-      best_follow = std::move(followed);
-      best_realised = realised;
-      best_com = com_target;
-      best_zmp = zmp_plan;
-      best_shift = plan.max_shift_m;
+    ++repair_follows;
+    if (!plan_and_follow(s, kept, true, round, out)) return false;
+    gave = soles_gave(out.follow, true);
+    for (int r = 0; r < options_.repairs && any_of(gave); ++r) {
+      auto keep = [&](int a, int b) {
+        for (int g = std::max(0, a); g <= std::min(T - 1, b); ++g) kept[static_cast<std::size_t>(g)] = 1;
+      };
+      for (int f = 0; f < T; ++f) {
+        const std::uint8_t what = gave[static_cast<std::size_t>(f)];
+        if (!what) continue;
+        if (!kept[static_cast<std::size_t>(f)]) {
+          keep(f - kKeptMargin, f + kKeptMargin);
+          continue;
+        }
+        for (std::size_t foot = 0; foot < 2; ++foot) {
+          if (!(what & (2 << foot))) continue;
+          const auto& c = work.contacts.in_contact[foot];
+          int a = f, b = f;
+          while (a > 0 && c[static_cast<std::size_t>(a - 1)]) --a;
+          while (b + 1 < T && c[static_cast<std::size_t>(b + 1)]) ++b;
+          keep(a - kKeptMargin, b + kKeptMargin);
+        }
+      }
+      ++repair_follows;
+      out.follow = follow(out.com_target, kept, true);
+      timer.lap(ms_follow);
+      gave = soles_gave(out.follow, true);
+    }
+    if (any_of(gave)) return false;
+    // The kept frames are joined by short ramps: a repair may not make the motion rougher than it
+    // came (issue 13's jitter bar is the per-frame IK's).
+    if (joint_jitter(out.follow.q, fps) > jitter_in) {
+      ++rough_repairs;
+      return false;
+    }
+    ++repaired_rounds;
+    pinned_samples += pinned;
+    kept_frames += static_cast<int>(std::count(kept.begin(), kept.end(), 1));
+    return true;
+  };
+  // A round's result is kept if it improves the ZMP and holds the landmarks and the stance drift;
+  // the retargeted motion itself is the first candidate.
+  auto consider = [&](Candidate& c, const MultibodyZmp& realised, const Score& now) {
+    if (!(now.better_than(best) && landmarks_held(c.follow.q) && drift_held(c.follow.q))) return;
+    best = now;
+    best_follow = std::move(c.follow);
+    best_realised = realised;
+    best_com = c.com_target;
+    best_zmp = c.zmp_plan;
+    best_shift = c.plan.max_shift_m;
+  };
+  for (int round = 0; round < options_.iterations; ++round) {
+    Candidate c;
+    if (!plan_and_follow(samples, {}, false, round, c)) break;
+    ++rounds;
+    const MultibodyZmp realised = multibody_zmp(model, data, c.follow.q, fps);
+    const Score now = score(realised);
+    round_outside += format("%s%d (angular part median %.3f m)", round ? ", " : "", now.outside, raw_angular_median(realised));
+    // The round must hold the soles (stance fixed, swing on its path, the stance drift); where it
+    // does not, its repair is the candidate.
+    if (!any_of(soles_gave(c.follow, false))) {
+      consider(c, realised, now);
+    } else {
+      if (c.follow.max_foot_error_m > options_.foot_tolerance_m) ++rounds_dropping_soles; else ++results_dropping_drift;
+      Candidate r;
+      if (options_.repairs > 0 && repair(c, round, r)) {
+        const MultibodyZmp realised_r = multibody_zmp(model, data, r.follow.q, fps);
+        const Score now_r = score(realised_r);
+        round_outside += format(", repaired %d", now_r.outside);
+        consider(r, realised_r, now_r);
+      }
     }
     if (now.outside == 0) break;
-    // Two-stage preview: the next plan's offset is what the multibody motion adds to this plan's
-    // cart-table ZMP.
-    offset = angular_part(realised, com_target);
+    // Two-stage preview: the next plan's offset is what the multibody motion (unrepaired: the
+    // rounds converge as without repairs) adds to this plan's cart-table ZMP.
+    offset = angular_part(realised, c.com_target);
     for (int k = 0; k < K; ++k) samples[static_cast<std::size_t>(k)].zmp_offset_W = at_time(offset, fps, k * dt);
     zero_rest_offsets();
     timer.lap(ms_zmp);
   }
+  const std::vector<std::uint8_t> kept_as_input =
+      best_follow.kept_as_input.empty() ? std::vector<std::uint8_t>(static_cast<std::size_t>(T), 0) : best_follow.kept_as_input;
 
   // 5. Whole-body stage: what the COM plan leaves outside (mostly the angular-momentum part the
   // rounds cannot predict) removed by the smallest smooth joint-space correction whose multibody
   // ZMP rows hold the ZMP in the support shrunk by the margin, the soles where they are (stance
   // held, swing on its path), the floor, the limits and the speed limits (refine's smooth correction
-  // with ZMP rows); kept if the ZMP improves and the soles stay held.
-  refine::CorrectionReport whole_body;
-  if (options_.whole_body_iterations > 0 && T >= 4) {
-    const MatX& q0 = best_follow.q;
+  // with ZMP rows); frames where it still breaks a sole take its start back; kept if the ZMP improves
+  // and the soles stay held.
+  struct Stage {
+    bool kept = false;
+    MatX q;
+    MultibodyZmp z;
+    Score after;         // stance frames more than 1 cm outside
+    std::string detail;  // the -v statistic's
+  };
+  auto whole_body_stage = [&](const MatX& q0, const std::vector<std::uint8_t>& kept_as_input, const MultibodyZmp& realised0) {
+    refine::CorrectionReport whole_body;
     refine::FootPlan feet;
     refine::CorrectionOptions co;
     co.zmp_support = shrunk;
+    // No ZMP rows where the rounds left the input's poses (its stencil reaches a frame either side):
+    // the legs could not hold the soles there even on the retargeted COM.
+    for (int f = 0; f < T; ++f)
+      if (kept_as_input[static_cast<std::size_t>(f)])
+        for (int g = std::max(0, f - 1); g <= std::min(T - 1, f + 1); ++g) co.zmp_support[static_cast<std::size_t>(g)].clear();
     for (std::size_t k = 0; k < 2; ++k) feet.feet[k].resize(static_cast<std::size_t>(T));
     for (int f = 0; f < T; ++f) {
       update_kinematics(model, data, q0.col(f));
@@ -737,16 +967,19 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
       return z0 >= kSwingClearance_m ? kSwingClearance_m : z0 - options_.foot_tolerance_m;
     };
     for (int i = 0; i < model.nu(); ++i) q1.row(7 + i) = q1.row(7 + i).cwiseMax(model.q_lower()[i]).cwiseMin(model.q_upper()[i]);
-    {
-      IkOptions po;
-      po.max_iterations = 20;
-      po.regularization = 1e-6;
-      po.step_tolerance = 1e-10;
-      po.cost_tolerance = 1e-12;
-      const LandmarkIk hold_ik(model, po);
+    IkOptions hold_options;
+    hold_options.max_iterations = 20;
+    hold_options.regularization = 1e-6;
+    hold_options.step_tolerance = 1e-10;
+    hold_options.cost_tolerance = 1e-12;
+    const LandmarkIk hold_ik(model, hold_options);
+    // Frames whose held soles gave (or whose swing sole came down too low) projected back, on the
+    // frames marked in `only` (empty: all).
+    auto project_holds = [&](MatX& q1, const std::vector<double>& only) {
       std::vector<IkTarget> held;
       IkJointBounds step;
       for (int f = 0; f < T; ++f) {
+        if (!only.empty() && !(only[static_cast<std::size_t>(f)] > 0)) continue;
         update_kinematics(model, data, q1.col(f));
         held.clear();
         double off = 0;
@@ -774,16 +1007,30 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
         hold_ik.solve(data, held, q1.col(f), q, {}, {}, &step);
         q1.col(f) = q;
       }
-    }
-    for (int i = 0; i < model.nu(); ++i) {
-      if (!(v_max[i] > 0)) continue;
-      const double step = v_max[i] / fps;
-      for (int f = 1; f < T; ++f) q1(7 + i, f) = std::clamp(q1(7 + i, f), q1(7 + i, f - 1) - step, q1(7 + i, f - 1) + step);
-    }
+    };
+    project_holds(q1, {});
+    // (A step the stage started from is allowed: where the input already was faster than a limit, a
+    // clamp would drag every later frame along. Frames given back whole, weight 1 in `given`, are
+    // the stage's start itself and stay.)
+    constexpr double kClampShare = 1 - 1e-6;  // a step clamped to the limit stays below it once rounded
+    auto clamp_speeds = [&](MatX& q, const std::vector<double>& given) {
+      for (int i = 0; i < model.nu(); ++i) {
+        if (!(v_max[i] > 0)) continue;
+        for (int f = 1; f < T; ++f) {
+          if (!given.empty() && given[static_cast<std::size_t>(f)] >= 1) continue;
+          const double step = std::max(kClampShare * v_max[i] / fps, std::abs(q0(7 + i, f) - q0(7 + i, f - 1)));
+          q(7 + i, f) = std::clamp(q(7 + i, f), q(7 + i, f - 1) - step, q(7 + i, f - 1) + step);
+        }
+      }
+    };
+    clamp_speeds(q1, {});
     // How far a stance sole moved and turned from its held pose, and how much more it tilts than
-    // issue 13's 0.5° (or than it did before the stage, where it already did), and how far a swing
-    // sole's lowest corner is below its floor.
+    // issue 13's 0.5° (or than it did before the stage, where it already did), how far a swing
+    // sole's lowest corner is below its floor; per frame, whether any of these (or a stance drift
+    // beyond what is allowed) is a fault.
     constexpr double kStanceAngle_rad = 0.5 * M_PI / 180;
+    // Tilt growth below this is rounding (a frame projected back onto its soles, already tilted).
+    constexpr double kTiltTolerance_rad = 0.01 * M_PI / 180;
     auto stance_tilts = [&](const MatX& q) {
       std::array<std::vector<double>, 2> tilt;
       for (auto& v : tilt) v.assign(static_cast<std::size_t>(T), 0.0);
@@ -796,41 +1043,129 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
       return tilt;
     };
     const std::array<std::vector<double>, 2> tilt_before = stance_tilts(q0);
-    double sole_move = 0, sole_turn = 0, tilt_excess = 0, swing_dip = 0;
-    for (int f = 0; f < T; ++f) {
-      update_kinematics(model, data, q1.col(f));
+    const std::vector<double> low_before = lowest_points(model, data, q0);
+    constexpr double kFloorRounding_m = 1e-4;
+    struct StageFaults {
+      double sole_move = 0, sole_turn = 0, tilt_excess = 0, swing_dip = 0;
+      double below_floor = 0;  ///< [m] how far the lowest point went below floor_at (and below where it was), at worst
+      std::vector<std::uint8_t> frames;
+      int count = 0;
+    };
+    auto stage_faults = [&](const MatX& q) {
+      StageFaults out;
+      out.frames.assign(static_cast<std::size_t>(T), 0);
+      for (int f = 0; f < T; ++f) {
+        const auto fi = static_cast<std::size_t>(f);
+        update_kinematics(model, data, q.col(f));
+        for (std::size_t foot = 0; foot < 2; ++foot)
+          if (!labelled || work.contacts.in_contact[foot][fi]) {
+            const IkTarget& t = frames.soles[fi][foot];
+            const double move = (link_point(model, data, t.link, t.p_L) - t.p_W).norm();
+            const Mat3 R_sole = sole_frame_W(model, data, static_cast<int>(foot), R_L_sole[foot]).linear();
+            const double turn = AngleAxis(Mat3(R_sole * t.R_W.toRotationMatrix().transpose())).angle();
+            const double tilt = std::acos(std::clamp(R_sole(2, 2), -1.0, 1.0)) - std::max(kStanceAngle_rad, tilt_before[foot][fi]);
+            out.sole_move = std::max(out.sole_move, move);
+            out.sole_turn = std::max(out.sole_turn, turn);
+            out.tilt_excess = std::max(out.tilt_excess, tilt);
+            if (move > options_.foot_tolerance_m || turn > kStanceAngle_rad || tilt > kTiltTolerance_rad) out.frames[fi] = 1;
+          }
+      }
+      const std::array<std::vector<double>, 2> swing_now = lowest_swing_corners(q);
       for (std::size_t foot = 0; foot < 2; ++foot)
-        if (!labelled || work.contacts.in_contact[foot][static_cast<std::size_t>(f)]) {
-          const IkTarget& t = frames.soles[static_cast<std::size_t>(f)][foot];
-          sole_move = std::max(sole_move, (link_point(model, data, t.link, t.p_L) - t.p_W).norm());
-          const Mat3 R_sole = sole_frame_W(model, data, static_cast<int>(foot), R_L_sole[foot]).linear();
-          sole_turn = std::max(sole_turn, AngleAxis(Mat3(R_sole * t.R_W.toRotationMatrix().transpose())).angle());
-          const double tilt = std::acos(std::clamp(R_sole(2, 2), -1.0, 1.0));
-          tilt_excess = std::max(tilt_excess, tilt - std::max(kStanceAngle_rad, tilt_before[foot][static_cast<std::size_t>(f)]));
+        for (std::size_t f = 0; f < swing_now[foot].size(); ++f) {
+          const double dip = swing_floor_at(foot, f) - swing_now[foot][f];
+          out.swing_dip = std::max(out.swing_dip, dip);
+          if (dip > 0) out.frames[f] = 1;
         }
+      // Below floor_at, and lower than the stage's start (whose floor, where it was already lower,
+      // the stage may only improve).
+      const std::vector<double> low = lowest_points(model, data, q);
+      for (std::size_t f = 0; f < static_cast<std::size_t>(T); ++f) {
+        if (!(low[f] < floor_at[f] && low[f] < low_before[f] - kFloorRounding_m)) continue;
+        out.below_floor = std::max(out.below_floor, floor_at[f] - low[f]);
+        out.frames[f] = 1;
+      }
+      if (labelled) {
+        const auto travel = stance_travel(model, data, q, work.contacts.in_contact, R_L_sole);
+        for (std::size_t foot = 0; foot < 2; ++foot)
+          for (std::size_t f = 0; f < static_cast<std::size_t>(T); ++f)
+            if (travel[foot][f] > drift_bound) out.frames[f] = 1;
+      }
+      out.count = static_cast<int>(std::count(out.frames.begin(), out.frames.end(), 1));
+      return out;
+    };
+    // Where the stage broke the soles (e.g. next to a passage the rounds left as it came), those
+    // frames take the rounds' motion back, blended in over 0.1 s either side; at most three times.
+    StageFaults faults = stage_faults(q1);
+    std::vector<std::uint8_t> given_back(static_cast<std::size_t>(T), 0);
+    const int ramp = std::max(2, static_cast<int>(std::lround(0.1 * fps)));
+    // Frames the rounds left as they came stay so (the stage had no ZMP rows there, but its smoothness
+    // and speed rows move them).
+    std::vector<std::uint8_t> give_back = faults.frames;
+    for (int f = 0; f < T; ++f) give_back[static_cast<std::size_t>(f)] |= kept_as_input[static_cast<std::size_t>(f)];
+    for (int pass = 0; options_.whole_body_give_back && pass < 3 && std::find(give_back.begin(), give_back.end(), 1) != give_back.end();
+         ++pass) {
+      std::vector<double> w(static_cast<std::size_t>(T), 0.0);
+      for (int f = 0; f < T; ++f) {
+        if (!give_back[static_cast<std::size_t>(f)]) continue;
+        for (int g = std::max(0, f - kKeptMargin - ramp); g <= std::min(T - 1, f + kKeptMargin + ramp); ++g) {
+          const int beyond = std::max(0, std::abs(g - f) - kKeptMargin);  // frames into the ramp
+          w[static_cast<std::size_t>(g)] = std::max(w[static_cast<std::size_t>(g)], 0.5 * (1 + std::cos(M_PI * beyond / (ramp + 1))));
+        }
+      }
+      for (int f = 0; f < T; ++f) {
+        const double wf = w[static_cast<std::size_t>(f)];
+        if (wf <= 0) continue;
+        if (wf >= 1) given_back[static_cast<std::size_t>(f)] = 1;
+        q1.col(f) = integrate(model, q1.col(f), difference(model, q1.col(f), q0.col(f), 1.0), wf);
+      }
+      project_holds(q1, w);  // the blend of two poses that hold the soles may not
+      clamp_speeds(q1, w);
+      faults = stage_faults(q1);
+      give_back = faults.frames;
     }
-    const std::array<std::vector<double>, 2> swing_now = lowest_swing_corners(q1);
-    for (std::size_t foot = 0; foot < 2; ++foot)
-      for (std::size_t f = 0; f < swing_now[foot].size(); ++f)
-        swing_dip = std::max(swing_dip, swing_floor_at(foot, f) - swing_now[foot][f]);
+    const int stage_spliced = static_cast<int>(std::count(given_back.begin(), given_back.end(), 1));
+    const double sole_move = faults.sole_move, sole_turn = faults.sole_turn, tilt_excess = faults.tilt_excess,
+                 swing_dip = faults.swing_dip;
     const MultibodyZmp z1 = multibody_zmp(model, data, q1, fps);
-    const Score before_1cm = score_zmp(frames.polygon, best_realised, kZmpNear_m),
+    const Score before_1cm = score_zmp(frames.polygon, realised0, kZmpNear_m),
                 after_1cm = score_zmp(frames.polygon, z1, kZmpNear_m);
-    const bool kept = sole_move <= options_.foot_tolerance_m && sole_turn <= kStanceAngle_rad && tilt_excess <= 0 && swing_dip <= 0 &&
+    const bool kept = sole_move <= options_.foot_tolerance_m && sole_turn <= kStanceAngle_rad && tilt_excess <= kTiltTolerance_rad && swing_dip <= 0 &&
+                      faults.below_floor <= 0 &&
                       after_1cm.better_than(before_1cm) && landmarks_held(q1) && drift_held(q1);
-    ctx.statistics.set("whole-body-zmp", after_1cm.outside, "frames",
-                       format("stance frames more than 1 cm outside after the whole-body stage, %d before (%s; %d iterations, "
-                              "%d rows left, worst %.3f m; sole move %.4f m, turn %.2f deg, tilt %.2f deg over, swing sole "
-                              "%.4f m too low)",
+    Stage st;
+    st.kept = kept;
+    st.after = after_1cm;
+    st.detail = format("stance frames more than 1 cm outside after the whole-body stage, %d before (%s; %d iterations, "
+                              "%d rows left, worst %.3f m; %d frames given back to the rounds' motion where it broke the soles; sole move "
+                              "%.4f m, turn %.2f deg, tilt %.2f deg over, swing sole %.4f m too low)",
                               before_1cm.outside, kept ? "kept" : "dropped", whole_body.iterations, whole_body.zmp_rows,
-                              whole_body.zmp_excess_max, sole_move, sole_turn * 180 / M_PI, std::max(0.0, tilt_excess) * 180 / M_PI,
-                              std::max(0.0, swing_dip)));
-    if (kept) {
-      best_follow.q = std::move(q1);
-      best = score(z1);
-      best_com = z1.com_W.topRows<2>();
-      best_zmp = z1.zmp_W;  // the exported balance reference: what the rows held
-      best_realised = z1;
+                              whole_body.zmp_excess_max, stage_spliced, sole_move, sole_turn * 180 / M_PI,
+                              std::max(0.0, tilt_excess) * 180 / M_PI, std::max(0.0, swing_dip));
+    st.q = std::move(q1);
+    st.z = z1;
+    return st;
+  };
+  if (options_.whole_body_iterations > 0 && T >= 4) {
+    Stage st = whole_body_stage(best_follow.q, kept_as_input, best_realised);
+    // Where it cannot be kept on the rounds' result, the stage starts from the retargeted motion
+    // itself, and is kept if it ends with fewer stance frames outside than that result.
+    if (!st.kept && (best_follow.q - q_in).cwiseAbs().maxCoeff() != 0) {
+      Stage again = whole_body_stage(q_in, std::vector<std::uint8_t>(static_cast<std::size_t>(T), 0), original);
+      if (again.kept && again.after.better_than(score_zmp(frames.polygon, best_realised, kZmpNear_m))) {
+        st = std::move(again);
+        st.detail += " (from the retargeted motion: the rounds' result could not keep it)";
+        best_follow = Follow{};
+        best_shift = 0;
+      }
+    }
+    ctx.statistics.set("whole-body-zmp", st.after.outside, "frames", st.detail);
+    if (st.kept) {
+      best_follow.q = std::move(st.q);
+      best = score(st.z);
+      best_com = st.z.com_W.topRows<2>();
+      best_zmp = st.z.zmp_W;  // the exported balance reference: what the rows held
+      best_realised = st.z;
     }
   }
   timer.lap(ms_whole_body);
@@ -867,12 +1202,17 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
 
   if (!qp_trouble.empty()) ctx.diagnostics.warn(where, "com-plan: the ZMP plan did not converge: " + qp_trouble);
   if (stages_dropping_landmarks > 0)
-    ctx.diagnostics.warn(where, format("com-plan: %d stage(s) dropped: following the plan would have moved the landmark error median "
+    ctx.diagnostics.warn(where, format("com-plan: %d result(s) dropped: following the plan would have moved the landmark error median "
                                        "by more than %.1f cm (from %.1f cm)",
                                        stages_dropping_landmarks, 100 * options_.max_landmark_growth_m, 100 * landmarks_before));
+  std::string repaired =
+      repaired_rounds > 0 ? format("; %d repaired (plan pinned to the retargeted COM on %d samples, %d frames left as they came)",
+                                   repaired_rounds, pinned_samples, kept_frames)
+                          : std::string();
+  if (rough_repairs > 0) repaired += format("; %d repair(s) not kept: rougher than the input (jitter)", rough_repairs);
   if (rounds_dropping_soles > 0)
     ctx.diagnostics.warn(where, format("com-plan: %d round(s) dropped: following the plan would have moved a held sole by more "
-                                       "than %.1f mm", rounds_dropping_soles, 1e3 * options_.foot_tolerance_m));
+                                       "than %.1f mm%s", rounds_dropping_soles, 1e3 * options_.foot_tolerance_m, repaired.c_str()));
   if (results_dropping_drift > 0)
     ctx.diagnostics.warn(where, format("com-plan: %d result(s) dropped: a stance sole would have drifted more than %.1f mm from "
                                        "where its stance began", results_dropping_drift, 1e3 * drift_bound));
@@ -894,6 +1234,11 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
   for (int f = 1; f + 1 < T; ++f) stance_frames += !frames.polygon[static_cast<std::size_t>(f)].empty();
   ctx.statistics.set("zmp-outside-before", before.outside, "frames", format("of %d stance frames, worst %.3f m", stance_frames, before.worst_m));
   ctx.statistics.set("zmp-outside-after", best.outside, "frames", format("stance frames, worst %.3f m", best.worst_m));
+  ctx.statistics.set("repairs", repair_follows, "",
+                     format("repair follows (a re-plan with the COM pinned where a held sole gave, then frames left as they came); %d "
+                            "round(s) repaired, %d samples pinned, %d frames left as they came (in the repaired rounds), %d repair(s) "
+                            "rougher than the input",
+                            repaired_rounds, pinned_samples, kept_frames, rough_repairs));
   ctx.statistics.set("rounds", rounds, "", format("multibody correction rounds (%d QP active-set iterations); frames outside per round: %s", qp_iterations, round_outside.c_str()));
   ctx.statistics.set("frames-not-followed", best_follow.missed_frames, "frames",
                      format("|COM - plan| > %.3f m (worst %.3f m)", options_.follow_tolerance_m, best_follow.max_miss_m));

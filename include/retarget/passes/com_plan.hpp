@@ -36,7 +36,9 @@
 ///     `iterations` times. The round with the fewest stance frames outside is kept, if it holds
 ///     the soles to `foot_tolerance`, keeps the landmark error median within
 ///     `max_landmark_growth` of the input's, keeps each stance sole's drift since its touchdown
-///     within max(`foot_tolerance`, the input's) and beats the retargeted motion.
+///     within max(`foot_tolerance`, the input's) and beats the retargeted motion. A round that
+///     does not hold the soles is repaired locally (`repairs`): the plan pinned to the retargeted
+///     COM around the frames that gave, and frames that still give left as they came.
 ///  5. Whole-body stage: the angular-momentum part that the rounds only predict (each round's IK
 ///     changes it) is removed by refine's smooth joint-space correction with one-sided multibody
 ///     ZMP rows (src/refine/smooth_correction.hpp): the smallest smooth change whose ZMP, by the
@@ -46,9 +48,14 @@
 ///     are then clamped to their limits, frames whose stance soles gave are projected back onto
 ///     them, swing soles that came below the 1.5 cm clearance, or more than `foot_tolerance`
 ///     below where they were near lift-off and touchdown, are lifted back, and steps are cut to
-///     the speed limits). Kept if the ZMP improves, the stance soles hold to `foot_tolerance` (and
-///     their drift as in 4), no swing sole stays too low and the landmarks hold to
-///     `max_landmark_growth`.
+///     the speed limits). The stage has no ZMP rows at frames a repair left as they came. Where it
+///     still breaks a sole (moved, turned, tilted, drifting, a swing sole too low, or the body
+///     lower below the floor than before), those frames take the rounds' motion back, blended in
+///     over 0.1 s either side and projected onto the held soles (at most three times,
+///     `whole_body_give_back`). Kept if the ZMP improves, the stance soles hold to `foot_tolerance`
+///     (and their drift as in 4), no swing sole stays too low and the landmarks hold to
+///     `max_landmark_growth`. Where it cannot be kept on the rounds' result, the stage starts from
+///     the retargeted motion itself, and that is kept if it ends better than the rounds' result.
 ///  If neither 4 nor 5 is kept, the clip is left as it came (with a warning).
 ///
 /// The planned COM (3 x T: plan x, y; the low-passed height) and the plan's ZMP go to the
@@ -83,6 +90,20 @@ struct ComPlanPassOptions {
   bool ankle_reach = true;
   double max_offset_m = 0.2;           ///< [m] the multibody correction Δp is clipped to this length
   int iterations = 3;                  ///< plan + COM-following rounds (multibody correction)
+  /// Local repair of a round that does not hold the soles. Where following a round's plan moves a
+  /// held sole beyond `foot_tolerance` or takes a stance sole's drift beyond the allowed (a COM the
+  /// legs cannot carry there: a joint limit, the reach, a glitch of the input), the plan's samples
+  /// within `pin_window` of those frames are pinned to the retargeted COM (on a copy: the next
+  /// round's multibody correction still comes from the unrepaired motion) and the plan is solved
+  /// and followed again, with the floor held by the IK. Then, at most `repairs` times, the frames
+  /// that still give keep their input pose (with two frames either side; a kept frame whose stance
+  /// still drifts keeps that whole stance), the frames within 0.1 s of them follow a pose and COM
+  /// blended towards the input's and stay within the speed limits of it, and the same plan is
+  /// followed again. The repaired round is a candidate beside the others. Without it, one such
+  /// passage dropped every round of a long clip: the LAFAN1 dance kept nothing on any robot (G1:
+  /// 150 of its 4,900 frames gave). 0: no repair (such a round is dropped).
+  int repairs = 2;
+  double pin_window_s = 0.3;           ///< [s] see `repairs`
   double smoothing_s = 0.03;           ///< [s] σ of the Gaussian low-pass of the pose and the COM height
   /// [s] σ of the low-pass of the swing soles' trajectories (0: as they are). Swing soles carry the
   /// heaviest moving links; at 0.03 s their angular momentum rate doubled the ZMP's angular part on
@@ -120,6 +141,11 @@ struct ComPlanPassOptions {
   /// bars; more than it was, where it already was): on H1's mocap36 gait the retries reached 65 %
   /// with a sole tilted 0.61°.
   int whole_body_extra_iterations = 20;
+  /// Where the whole-body stage breaks a sole (moved, turned, tilted or drifting, a swing sole too
+  /// low, the body lower below the floor than before), those frames take the stage's start back,
+  /// blended in over 0.1 s either side and projected onto the held soles, at most three times;
+  /// false: such a stage is dropped whole, as one frame dropped the stage of a whole dance.
+  bool whole_body_give_back = true;
   double whole_body_zmp_weight = 1e4;    ///< [1/m²] weight of a ZMP half-plane row
   double whole_body_smoothing_hz = 1.0;  ///< [Hz] cutoff of the correction's smoothness term
   /// [Hz] the export rate (the resample pass's; `--fps` sets both): the pass works on that grid,

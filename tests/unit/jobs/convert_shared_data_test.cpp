@@ -179,17 +179,22 @@ TEST_P(ConvertSharedData, MeetsTheQualityBounds) {
     read.joint_names = r.clip.reference.joint_names;
     Reference theirs = read_reference(test::shared_data(unitree_csv), read);
     Reference ours = r.clip.reference;
-    const int T = std::min(ours.num_frames(), theirs.num_frames());
-    ASSERT_LE(std::abs(ours.num_frames() - theirs.num_frames()), 1);
-    for (Reference* ref : {&ours, &theirs}) {
-      ref->root_pos_W.conservativeResize(3, T);
-      ref->root_quat_W.resize(static_cast<std::size_t>(T));
-      ref->joint_pos.conservativeResize(ref->joint_pos.rows(), T);
-      ref->com_W.resize(3, 0);
-      ref->cop_W.resize(2, 0);
-    }
-    std::array<std::vector<std::uint8_t>, 2> contacts = ours.contact;
-    for (auto& foot : contacts) foot.resize(static_cast<std::size_t>(T));
+    // Ours without com-plan's standing lead-in and lead-out (the source's frames lie between).
+    const int first = r.clip.lead_in_frames, own = ours.num_frames() - first - r.clip.lead_out_frames;
+    ASSERT_LE(std::abs(own - theirs.num_frames()), 1);
+    const int T = std::min(own, theirs.num_frames());
+    auto crop = [T](Reference& ref, int from) {
+      ref.root_pos_W = ref.root_pos_W.middleCols(from, T).eval();
+      ref.root_quat_W = std::vector<Quat>(ref.root_quat_W.begin() + from, ref.root_quat_W.begin() + from + T);
+      ref.joint_pos = ref.joint_pos.middleCols(from, T).eval();
+      for (auto& foot : ref.contact)
+        if (!foot.empty()) foot = std::vector<std::uint8_t>(foot.begin() + from, foot.begin() + from + T);
+      ref.com_W.resize(3, 0);
+      ref.cop_W.resize(2, 0);
+    };
+    crop(ours, first);
+    crop(theirs, 0);
+    const std::array<std::vector<std::uint8_t>, 2> contacts = ours.contact;
     const test::ReferenceScore a = test::score_with_contacts(g1, ours, contacts);
     const test::ReferenceScore b = test::score_with_contacts(g1, theirs, contacts);
     std::cout << format("[ vs Unitree] %s: skating p95 %.4f / %.4f m, penetration %.4f / %.4f m, frame-0 tilt %.2f / %.2f deg, "
@@ -200,6 +205,16 @@ TEST_P(ConvertSharedData, MeetsTheQualityBounds) {
     EXPECT_LE(a.feet.foot_skating_p95_m, b.feet.foot_skating_p95_m);
     EXPECT_LE(a.feet.penetration_max_m, b.feet.penetration_max_m);
     EXPECT_LE(a.feet.frame0_sole_tilt_deg, b.feet.frame0_sole_tilt_deg + 0.01);
+  }
+  // The LAFAN1 dance, one of issue 14's stepping clips: com-plan kept nothing of it (its ZMP within 1 cm
+  // of the support on 32 % of the stance frames on G1, 31 % on humanoid25) until its rounds and its
+  // whole-body stage were repaired where they broke a sole (87 % and 81 %, 2026-12-07). Measured
+  // floors, not issue 14's bar (98 %).
+  static const std::map<std::string, double> kZmpNearAtLeast = {{"g1 lafan1_dance1_subject2", 0.8},
+                                                                {"humanoid25 lafan1_dance1_subject2", 0.75}};
+  if (const auto it = kZmpNearAtLeast.find(std::string(c.robot) + " " + std::filesystem::path(c.clip).stem().string());
+      it != kZmpNearAtLeast.end()) {
+    EXPECT_GT(q.zmp_near_fraction, it->second);
   }
   std::cout << format("[ quality  ] %-10s %-52s%s landmark error median %.3f m p95 %.3f m, stance drift max %.4f m, "
                       "yaw max %.2f deg, lowest %.4f m, jitter %.0f (IK %.0f), %.0f ms; misses: %s\n",
