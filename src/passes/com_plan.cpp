@@ -104,6 +104,9 @@ constexpr double kFloorTolerance_m = 0.002;
 // Frames either side of one that keeps its input pose that keep theirs too: the IK's frame-to-frame
 // velocity bounds need a frame or two to rejoin it.
 constexpr int kKeptMargin = 2;
+// Times the whole-body stage gives frames back (each pass may leave a fault where its blend begins:
+// a frame the stage moved further than the projection back onto the soles can undo).
+constexpr int kGiveBackPasses = 6;
 
 struct Follow {
   MatX q;
@@ -1095,7 +1098,8 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
       return out;
     };
     // Where the stage broke the soles (e.g. next to a passage the rounds left as it came), those
-    // frames take the rounds' motion back, blended in over 0.1 s either side; at most three times.
+    // frames take the rounds' motion back, blended in over 0.1 s either side; at most kGiveBackPasses
+    // times.
     StageFaults faults = stage_faults(q1);
     std::vector<std::uint8_t> given_back(static_cast<std::size_t>(T), 0);
     const int ramp = std::max(2, static_cast<int>(std::lround(0.1 * fps)));
@@ -1103,7 +1107,7 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
     // and speed rows move them).
     std::vector<std::uint8_t> give_back = faults.frames;
     for (int f = 0; f < T; ++f) give_back[static_cast<std::size_t>(f)] |= kept_as_input[static_cast<std::size_t>(f)];
-    for (int pass = 0; options_.whole_body_give_back && pass < 3 && std::find(give_back.begin(), give_back.end(), 1) != give_back.end();
+    for (int pass = 0; options_.whole_body_give_back && pass < kGiveBackPasses && std::find(give_back.begin(), give_back.end(), 1) != give_back.end();
          ++pass) {
       std::vector<double> w(static_cast<std::size_t>(T), 0.0);
       for (int f = 0; f < T; ++f) {

@@ -51,7 +51,7 @@
 ///     the speed limits). The stage has no ZMP rows at frames a repair left as they came. Where it
 ///     still breaks a sole (moved, turned, tilted, drifting, a swing sole too low, or the body
 ///     lower below the floor than before), those frames take the rounds' motion back, blended in
-///     over 0.1 s either side and projected onto the held soles (at most three times,
+///     over 0.1 s either side and projected onto the held soles (at most six times,
 ///     `whole_body_give_back`). Kept if the ZMP improves, the stance soles hold to `foot_tolerance`
 ///     (and their drift as in 4), no swing sole stays too low and the landmarks hold to
 ///     `max_landmark_growth`. Where it cannot be kept on the rounds' result, the stage starts from
@@ -143,7 +143,7 @@ struct ComPlanPassOptions {
   int whole_body_extra_iterations = 20;
   /// Where the whole-body stage breaks a sole (moved, turned, tilted or drifting, a swing sole too
   /// low, the body lower below the floor than before), those frames take the stage's start back,
-  /// blended in over 0.1 s either side and projected onto the held soles, at most three times;
+  /// blended in over 0.1 s either side and projected onto the held soles, at most six times;
   /// false: such a stage is dropped whole, as one frame dropped the stage of a whole dance.
   bool whole_body_give_back = true;
   double whole_body_zmp_weight = 1e4;    ///< [1/m²] weight of a ZMP half-plane row

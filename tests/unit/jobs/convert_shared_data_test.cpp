@@ -207,11 +207,12 @@ TEST_P(ConvertSharedData, MeetsTheQualityBounds) {
     EXPECT_LE(a.feet.frame0_sole_tilt_deg, b.feet.frame0_sole_tilt_deg + 0.01);
   }
   // The LAFAN1 dance, one of issue 14's stepping clips: com-plan kept nothing of it (its ZMP within 1 cm
-  // of the support on 32 % of the stance frames on G1, 31 % on humanoid25) until its rounds and its
-  // whole-body stage were repaired where they broke a sole (87 % and 81 %, 2026-12-07). Measured
-  // floors, not issue 14's bar (98 %).
+  // of the support on 32 % of the stance frames on G1, 31 % on humanoid25, 27 % on JVRC-1) until its
+  // rounds and its whole-body stage were repaired where they broke a sole (87, 81 and 71 %,
+  // 2026-12-07). Measured floors, not issue 14's bar (98 %).
   static const std::map<std::string, double> kZmpNearAtLeast = {{"g1 lafan1_dance1_subject2", 0.8},
-                                                                {"humanoid25 lafan1_dance1_subject2", 0.75}};
+                                                                {"humanoid25 lafan1_dance1_subject2", 0.75},
+                                                                {"jvrc1 lafan1_dance1_subject2", 0.65}};
   if (const auto it = kZmpNearAtLeast.find(std::string(c.robot) + " " + std::filesystem::path(c.clip).stem().string());
       it != kZmpNearAtLeast.end()) {
     EXPECT_GT(q.zmp_near_fraction, it->second);
