@@ -101,8 +101,8 @@ bool on_a_foot(const RobotModel& model, int link) {
 constexpr double kPinnedComWeightScale = 1e8;
 // [m] how far below the floor a collision point may go (issue 13's floor bar).
 constexpr double kFloorTolerance_m = 0.002;
-// Frames either side of one that keeps its input pose that keep theirs too: the IK's frame-to-frame
-// velocity bounds need a frame or two to rejoin it.
+// Frames either side of one that gave that keep their input pose too (a repair), or take the stage's
+// start back whole (the stage's give-back): a fault's neighbours are seldom far from it.
 constexpr int kKeptMargin = 2;
 // Times the whole-body stage gives frames back (each pass may leave a fault where its blend begins:
 // a frame the stage moved further than the projection back onto the soles can undo).
@@ -1052,7 +1052,6 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
       double sole_move = 0, sole_turn = 0, tilt_excess = 0, swing_dip = 0;
       double below_floor = 0;  ///< [m] how far the lowest point went below floor_at (and below where it was), at worst
       std::vector<std::uint8_t> frames;
-      int count = 0;
     };
     auto stage_faults = [&](const MatX& q) {
       StageFaults out;
@@ -1094,7 +1093,6 @@ void ComPlanPass::run(Clip& clip, PassContext& ctx) {
           for (std::size_t f = 0; f < static_cast<std::size_t>(T); ++f)
             if (travel[foot][f] > drift_bound) out.frames[f] = 1;
       }
-      out.count = static_cast<int>(std::count(out.frames.begin(), out.frames.end(), 1));
       return out;
     };
     // Where the stage broke the soles (e.g. next to a passage the rounds left as it came), those

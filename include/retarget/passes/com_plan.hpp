@@ -101,7 +101,7 @@ struct ComPlanPassOptions {
   /// blended towards the input's and stay within the speed limits of it, and the same plan is
   /// followed again. The repaired round is a candidate beside the others. Without it, one such
   /// passage dropped every round of a long clip: the LAFAN1 dance kept nothing on any robot (G1:
-  /// 150 of its 4,900 frames gave). 0: no repair (such a round is dropped).
+  /// 150 of its 3,945 frames gave). 0: no repair (such a round is dropped).
   int repairs = 2;
   double pin_window_s = 0.3;           ///< [s] see `repairs`
   double smoothing_s = 0.03;           ///< [s] σ of the Gaussian low-pass of the pose and the COM height
