@@ -23,6 +23,15 @@
 ///    (refine/signal_smoother.hpp, smooth_under_ceiling), and the projection and the correction
 ///    hold it 100 times stiffer: the IK's root dips at each long double support (1-2 g up at the
 ///    lift-off) are spread out and the knees bend instead.
+///    Turns beyond the legs (`hold_turns`): where a performer turns on a planted foot further than
+///    the robot's hip yaw allows (a pirouette), the smoothed root is turned back about the stance
+///    anchor by the excess (the sole's heading relative to the root, unwrapped over the stance,
+///    beyond the hip yaw joint's limits widened by `turn_slack`), blended over ±0.1 s; the body's
+///    heading catches up after the stance. The projection (5) turns the root through the slack
+///    itself, as it did every turn before; beyond it, it reached for the anchor by contorting the
+///    leg (G1 on the LAFAN1 dance: root 0.16 m high, knee at its limit, for a second). Where a turn
+///    is held back, steps 3-6 run both with and without it and the result that misses fewer frames
+///    (stance hold and joint speed) is kept.
 /// 5. Project each frame on its own: the least change (in generalised coordinates, the legs 30-100
 ///    times cheaper than the root and the rest) that puts its soles on their targets and every
 ///    collision point of the robot (collision_hull.hpp) above the floor — the landmark IK with
@@ -59,6 +68,13 @@ struct RefineOptions {
   double stance_weight = 1e6;        ///< weight of a sole's position target [1/m²] (orientation: × (0.1 m)²)
   double swing_weight = 1e3;         ///< weight of a swing sole's target [1/m²]
   double floor_weight = 1e6;         ///< weight of a collision point below its floor height [1/m²]
+  /// Step 4: hold back the root's turn where a stance sole's heading relative to the root leaves the
+  /// range of the leg's hip yaw joint by more than `turn_slack` [rad] (kept where it misses fewer
+  /// frames). Within the slack the projection turns the root itself: it holds the shared walks'
+  /// stances there, and holding the turn back from the limit instead tilted humanoid25's PyMO
+  /// stances 0.57 deg (0.29 without).
+  bool hold_turns = true;
+  double turn_slack = 0.5;
   int rounds = 3;                    ///< smooth + project rounds at most
   /// Opt-in: at most this many further Gauss–Newton steps of the smooth correction (6) while a
   /// stance sole is more than 0.5 mm or 0.23 deg off its anchor or a limit is missed by more than

