@@ -119,6 +119,10 @@ void print_summary(const ConvertResult& r, bool verbose) {
   std::cout << format("  limits      %d position violations, %d velocity violations (fastest: %s at %.2f, %.2fx its limit)\n",
                       q.position_limit_violations, q.velocity_limit_violations, q.fastest_joint.c_str(),
                       q.fastest_joint_speed, q.max_velocity_ratio);
+  if (!q.torque_demand_joint.empty())
+    std::cout << format("  torques     joints above the feet: %s asks %.2fx its effort limit at %.2f s; %d frames over a limit "
+                        "(inverse dynamics of the frames)\n",
+                        q.torque_demand_joint.c_str(), q.torque_demand_max_ratio, q.torque_demand_time_s, q.torque_demand_frames_over);
   std::cout << format("  jitter      %.1f rad/s^3 (per-frame IK: %.1f rad/s^3)\n", q.jitter_rad_s3,
                       q.jitter_per_frame_ik_rad_s3);
   std::string times;

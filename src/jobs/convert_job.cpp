@@ -75,7 +75,11 @@ nlohmann::json quality_json(const QualityMetrics& q) {
           {"zmp_single_support_inside_fraction", q.zmp_single_inside_fraction},
           {"zmp_single_support_within_1cm_fraction", q.zmp_single_near_fraction},
           {"zmp_outside_max_m", q.zmp_outside_max_m},
-          {"zmp_outside_time_s", q.zmp_outside_time_s}};
+          {"zmp_outside_time_s", q.zmp_outside_time_s},
+          {"torque_demand_max_ratio", q.torque_demand_max_ratio},
+          {"torque_demand_joint", q.torque_demand_joint},
+          {"torque_demand_time_s", q.torque_demand_time_s},
+          {"torque_demand_frames_over_limit", q.torque_demand_frames_over}};
 }
 
 // The pipeline run_convert runs for a request (the spec string records every option).

@@ -8,6 +8,7 @@
 #include "retarget/model/collision_hull.hpp"
 #include "retarget/model/kinematics.hpp"
 #include "retarget/model/robot_model.hpp"
+#include "retarget/model/torque_demand.hpp"
 #include "retarget/passes/flat_contact.hpp"
 #include "retarget/passes/stance_support.hpp"
 
@@ -271,6 +272,14 @@ QualityMetrics compute_quality(const RobotModel& model, RobotData& data, const C
         if (ratio > 1.0) ++m.velocity_limit_violations;
       }
     }
+  // Torque demand on the exported frames (the source-rate motion without a resample pass).
+  const TorqueDemand td = ref.num_frames() > 0 ? torque_demand(model, data, reference_q(model, ref), ref.fps)
+                                               : torque_demand(model, data, motion.q, motion.fps);
+  m.torque_demand_max_ratio = td.max_ratio;
+  m.torque_demand_time_s = td.max_time_s;
+  m.torque_demand_frames_over = td.frames_over;
+  if (td.max_joint >= 0)
+    m.torque_demand_joint = model.joints()[static_cast<std::size_t>(model.movable_joints()[static_cast<std::size_t>(td.max_joint)])].name;
   m.jitter_rad_s3 = joint_jitter(motion.q, motion.fps);
   m.jitter_per_frame_ik_rad_s3 =
       motion.q_per_frame_ik.cols() == T ? joint_jitter(motion.q_per_frame_ik, motion.fps) : m.jitter_rad_s3;

@@ -95,6 +95,14 @@ struct QualityMetrics {
   double zmp_single_near_fraction = 1;
   double zmp_outside_max_m = 0;
   double zmp_outside_time_s = 0;
+  /// Torque demand of the joints with no foot below them (model/torque_demand.hpp: inverse dynamics
+  /// of the exported frames, first and last left out): the largest |τ| / effort limit, its joint and
+  /// time [s], and the frames where some such joint is above its limit (0 and "" when the robot
+  /// gives no effort limits there).
+  double torque_demand_max_ratio = 0;
+  std::string torque_demand_joint;
+  double torque_demand_time_s = 0;
+  int torque_demand_frames_over = 0;
 };
 
 /// "Near the support" for the ZMP metric [m].
