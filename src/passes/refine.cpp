@@ -456,6 +456,9 @@ RefinePass::RefinePass() {
   table_.add("limit_margin", options_.limit_margin, "[rad, m] distance kept from the joint position limits");
   table_.add("swing_clearance", options_.swing_clearance_m, "[m] swing sole height beyond swing_guard of lift-off/touchdown");
   table_.add("swing_guard", options_.swing_guard_s, "[s] near lift-off and touchdown the swing sole may be lower", {0, 10, "s"});
+  table_.add("swing_tilt_ramp", options_.swing_tilt_ramp_s,
+             "[s] the swing sole's tilt fades in after lift-off and out before touchdown over this when longer than swing_guard (0: swing_guard)",
+             {0, 2, "s"});
   table_.add("stance_weight", options_.stance_weight, "weight of the stance sole targets [1/m^2]");
   table_.add("swing_weight", options_.swing_weight, "weight of the swing sole targets [1/m^2]");
   table_.add("floor_weight", options_.floor_weight, "weight of collision points below the floor [1/m^2]");
@@ -769,6 +772,7 @@ void RefinePass::run(Clip& clip, PassContext& ctx) {
         refine::FootPlanOptions fo;
         fo.clearance_m = o.swing_clearance_m;
         fo.guard_s = o.swing_guard_s;
+        fo.tilt_ramp_s = o.swing_tilt_ramp_s;
         for (int foot = 0; foot < 2; ++foot) fo.sole_size_m[static_cast<std::size_t>(foot)] = model.soles()[static_cast<std::size_t>(foot)].size_m;
         plan = refine::plan_feet(anchors, sole_poses(model, data, q_smooth, R_L_sole), contacts, fps, fo);
       }

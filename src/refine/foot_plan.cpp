@@ -118,6 +118,7 @@ FootPlan plan_feet(const std::vector<SoleAnchor>& anchors, const std::array<std:
       SolePose B = open_end ? S[static_cast<std::size_t>(T - 1)] : targets[static_cast<std::size_t>(f1)].pose;
       const double span = std::max(1, f1 - f0);
       const double guard = std::max(1.0, std::min(o.guard_s * fps, 0.5 * span));
+      const double tilt_ramp = std::max(guard, std::min(o.tilt_ramp_s * fps, 0.5 * span));  // [frames]
       const Vec2 chord_h = S[static_cast<std::size_t>(f1)].p_W.head<2>() - S[static_cast<std::size_t>(f0)].p_W.head<2>();
       const double yaw_A = sole_yaw(A.R_W), yaw_B = sole_yaw(B.R_W);
       const double turn = std::remainder(yaw_B - yaw_A, 2 * M_PI);
@@ -137,6 +138,7 @@ FootPlan plan_feet(const std::vector<SoleAnchor>& anchors, const std::array<std:
         if (!open_start) d = std::min(d, static_cast<double>(f - f0));
         if (!open_end) d = std::min(d, static_cast<double>(f1 - f));
         const double E = std::isfinite(d) ? smootherstep(d / guard) : 1.0;
+        const double E_tilt = o.tilt_ramp_s > 0 && std::isfinite(d) ? smootherstep(d / tilt_ramp) : E;
         // Lowest-corner height over the chord between the end heights (the ends' own where the clip cuts).
         const double z0 = open_start ? 0.0 : low(S[static_cast<std::size_t>(f0)]);
         const double z1 = open_end ? 0.0 : low(S[static_cast<std::size_t>(f1)]);
@@ -148,7 +150,7 @@ FootPlan plan_feet(const std::vector<SoleAnchor>& anchors, const std::array<std:
         const Mat3 tilt = yaw_rotation(sole_yaw(s.R_W)).transpose() * s.R_W;
         const Vec3 tilt_log = rotation_log(tilt);  // faded out towards flat lift-off and touchdown
         t.pose.R_W = yaw_rotation(yaw) * (tilt_log.norm() > 1e-12
-                                              ? AngleAxis(E * tilt_log.norm(), tilt_log.normalized()).toRotationMatrix()
+                                              ? AngleAxis(E_tilt * tilt_log.norm(), tilt_log.normalized()).toRotationMatrix()
                                               : Mat3::Identity());
         t.pose.p_W.z() = E * smooth_max(h, o.clearance_m + 0.003, 0.01) - lowest_corner_offset(t.pose.R_W, size);
         t.min_height_m = (o.clearance_m + 0.002) * E;  // 2 mm over: the floor rows are penalties

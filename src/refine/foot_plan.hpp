@@ -14,7 +14,11 @@
 ///                σ = smootherstep(the smoothed foot's progress along its chord), u = time fraction,
 ///                bump = 16 u²(1 − u)²: the foot leaves and arrives with zero horizontal speed;
 ///   heading      from A's to B's along σ;
-///   tilt         the smoothed foot's, faded out near both ends (lift-off and touchdown are flat);
+///   tilt         the smoothed foot's, faded out near both ends (lift-off and touchdown are flat):
+///                × smootherstep(distance to the nearer end / max(guard, tilt_ramp)), the ramp at
+///                most half the swing. A performer's toe-off leaves the sole tilted 40-65° at
+///                lift-off; faded in over the 0.1 s guard that is a flick of the ankle and knee in
+///                two 30 fps frames (refine{swing_tilt_ramp}, README "Swing tilt");
 ///   height       of the sole's lowest corner: E · smax(h, clearance + 3 mm), h the smoothed swing's
 ///                lowest-corner height over the chord between its end heights, E =
 ///                smootherstep(distance to the nearer end / guard): zero height and zero vertical
@@ -57,6 +61,7 @@ struct SoleAnchor {
 struct FootPlanOptions {
   double clearance_m = 0.015;  ///< swing sole above this beyond `guard_s` of lift-off and touchdown
   double guard_s = 0.1;        ///< [s]
+  double tilt_ramp_s = 0;      ///< [s] the tilt fades in and out over this when longer than guard_s
   std::array<Vec2, 2> sole_size_m{{Vec2::Zero(), Vec2::Zero()}};  ///< per foot: length (sole x), width
 };
 

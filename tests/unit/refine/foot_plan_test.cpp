@@ -108,5 +108,47 @@ TEST(FootPlan, AFootWithoutStanceIsFreeAndCutSwingsKeepTheirEnd) {
   EXPECT_LT((plan.feet[0][0].pose.p_W.head<2>() - w.soles[0][0].p_W.head<2>()).norm(), 1e-9);
 }
 
+// A performer's toe-off at 30 fps: the source sole leaves its stance pitched 50 deg (heel up) and
+// levels out by mid-swing. Faded in over the 0.1 s guard, the planned sole turns through most of
+// that in two frames; a longer tilt ramp spreads it, and mid-swing keeps the source's tilt.
+TEST(FootPlan, ATiltRampSpreadsTheToeOffTilt) {
+  const int T = 40;
+  const double fps = 30;
+  std::array<std::vector<std::uint8_t>, 2> contacts;
+  std::array<std::vector<SolePose>, 2> soles;
+  for (auto& c : contacts) c.assign(T, 1);
+  for (int f = 10; f < 28; ++f) contacts[0][static_cast<std::size_t>(f)] = 0;  // swing [10, 28): 0.6 s
+  for (auto& s : soles) s.resize(T);
+  for (int f = 0; f < T; ++f) {
+    const double u = std::clamp((f - 9) / 19.0, 0.0, 1.0);
+    const double pitch = f < 10 ? 0.0 : f >= 28 ? 0.0 : 0.87 * std::max(0.0, 1 - 2 * u) + 0.15 * std::sin(M_PI * u);
+    SolePose& p = soles[0][static_cast<std::size_t>(f)];
+    p.p_W = Vec3(0.4 * u, 0.1, 0.08 * std::sin(M_PI * u) + 0.06 * std::sin(pitch));
+    p.R_W = yaw_pitch(0, pitch);
+    soles[1][static_cast<std::size_t>(f)].p_W = Vec3(0.2, -0.1, 0);
+  }
+  const std::vector<SoleAnchor> anchors = stance_anchors(soles, contacts);
+  auto largest_tilt_step = [&](const FootPlan& plan) {  // [rad per frame]
+    double out = 0;
+    for (int f = 10; f <= 28; ++f) {
+      const Mat3 d = plan.feet[0][static_cast<std::size_t>(f - 1)].pose.R_W.transpose() * plan.feet[0][static_cast<std::size_t>(f)].pose.R_W;
+      out = std::max(out, AngleAxis(d).angle());
+    }
+    return out;
+  };
+  FootPlanOptions o;
+  const FootPlan guard_only = plan_feet(anchors, soles, contacts, fps, o);
+  o.tilt_ramp_s = 0.25;
+  const FootPlan ramped = plan_feet(anchors, soles, contacts, fps, o);
+  EXPECT_GT(largest_tilt_step(guard_only), 0.3);  // about 20 deg between two frames
+  EXPECT_LT(largest_tilt_step(ramped), 0.5 * largest_tilt_step(guard_only));
+  // Lift-off and touchdown stay flat, and mid-swing keeps the source's tilt.
+  for (const int f : {10, 27}) EXPECT_GT(ramped.feet[0][static_cast<std::size_t>(f)].pose.R_W(2, 2), std::cos(3 * M_PI / 180));
+  const double mid_source = std::acos(soles[0][19].R_W(2, 2)), mid_planned = std::acos(ramped.feet[0][19].pose.R_W(2, 2));
+  EXPECT_NEAR(mid_planned, mid_source, 1e-9);
+  // The clearance still holds beyond the guard.
+  for (int f = 14; f < 24; ++f) EXPECT_GE(ramped.feet[0][static_cast<std::size_t>(f)].pose.p_W.z(), o.clearance_m);
+}
+
 }  // namespace
 }  // namespace rt::refine
