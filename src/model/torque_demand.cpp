@@ -30,6 +30,8 @@ TorqueDemand torque_demand(const RobotModel& model, RobotData& data, const MatX&
   const std::vector<bool> foot = joints_carrying_a_foot(model);
   const VecX& effort = model.effort_limits();
   out.judged.assign(static_cast<std::size_t>(nu), false);
+  out.frame_max_ratio.assign(static_cast<std::size_t>(std::max(T, 0)), 0.0);
+  out.frame_max_joint.assign(static_cast<std::size_t>(std::max(T, 0)), -1);
   bool any = false;
   for (int i = 0; i < nu; ++i) {
     out.judged[static_cast<std::size_t>(i)] = !foot[static_cast<std::size_t>(i)] && effort[i] > 0;
@@ -53,6 +55,10 @@ TorqueDemand torque_demand(const RobotModel& model, RobotData& data, const MatX&
       if (!out.judged[static_cast<std::size_t>(i)]) continue;
       const double ratio = std::abs(d->qfrc_inverse[6 + i]) / effort[i];
       over = over || ratio > 1;
+      if (ratio > out.frame_max_ratio[static_cast<std::size_t>(f)]) {
+        out.frame_max_ratio[static_cast<std::size_t>(f)] = ratio;
+        out.frame_max_joint[static_cast<std::size_t>(f)] = i;
+      }
       if (ratio > out.joint_max_ratio[static_cast<std::size_t>(i)]) {
         out.joint_max_ratio[static_cast<std::size_t>(i)] = ratio;
         out.joint_max_time_s[static_cast<std::size_t>(i)] = f * dt;

@@ -35,7 +35,7 @@ const ViolationKind kAllKinds[] = {ViolationKind::Fall,          ViolationKind::
                                    ViolationKind::FootSlip,      ViolationKind::TorqueSaturation,
                                    ViolationKind::JointLimit,    ViolationKind::HeavyCorrection,
                                    ViolationKind::StanceOffFloor, ViolationKind::StanceFootMoved,
-                                   ViolationKind::JointVelocity};
+                                   ViolationKind::JointVelocity, ViolationKind::ReferenceTorque};
 
 // ---- writing -----------------------------------------------------------------------------------
 

@@ -96,6 +96,7 @@ DynamicsCheckResult run_dynamics_check(const RobotModel& model, const Reference&
   ViolationMonitor monitor(model, o, signal.contacts(), signal.fps());
   for (Violation& v : stance_off_floor(signal, lead_s, o.stance_height_tolerance_m)) monitor.violations().push_back(std::move(v));
   for (Violation& v : reference_joint_speed(model, signal, lead_s)) monitor.violations().push_back(std::move(v));
+  for (Violation& v : reference_torque_demand(model, ref_data, signal, lead_s)) monitor.violations().push_back(std::move(v));
   if (o.controller == CheckControllerKind::Walking) {
     const BalancePlan& plan = static_cast<const WalkingController&>(*controller).plan();
     res.walking.lead_in_s = lead_s;

@@ -5,6 +5,7 @@
 
 #include "retarget/core/strings.hpp"
 #include "retarget/model/robot_model.hpp"
+#include "retarget/model/torque_demand.hpp"
 #include "retarget/sim/reference_signal.hpp"
 
 namespace rt {
@@ -70,6 +71,28 @@ std::vector<Violation> reference_joint_speed(const RobotModel& model, const Refe
                    out);
   }
   tracker.finish(T / signal.fps() - lead_s, out);
+  return out;
+}
+
+std::vector<Violation> reference_torque_demand(const RobotModel& model, RobotData& data, const ReferenceSignal& signal, double lead_s) {
+  std::vector<Violation> out;
+  const TorqueDemand d = torque_demand(model, data, signal.q_frames(), signal.fps());
+  if (d.frames == 0) return out;
+  ViolationTracker tracker(ViolationKind::ReferenceTorque, "ratio", 0.0);
+  const int T = signal.num_frames();
+  const int first = static_cast<int>(std::lround(lead_s * signal.fps())) + (lead_s > 0 ? 1 : 0);  // as reference_joint_speed
+  for (int k = std::max(first, 1); k + 1 < T; ++k) {
+    const double ratio = d.frame_max_ratio[static_cast<std::size_t>(k)];
+    const int joint = d.frame_max_joint[static_cast<std::size_t>(k)];
+    const bool over = ratio > 1 && joint >= 0;
+    tracker.update(k / signal.fps() - lead_s, over, ratio,
+                   over ? format("the reference asks %s for %.2fx its effort limit (%.3g N m; inverse dynamics of its frames)",
+                                 model.joints()[static_cast<std::size_t>(model.movable_joints()[static_cast<std::size_t>(joint)])].name.c_str(),
+                                 ratio, model.effort_limits()[joint])
+                        : "",
+                   out);
+  }
+  tracker.finish((T - 1) / signal.fps() - lead_s, out);
   return out;
 }
 

@@ -19,6 +19,7 @@ const char* violation_name(ViolationKind kind) {
     case ViolationKind::StanceOffFloor: return "stance-off-floor";
     case ViolationKind::StanceFootMoved: return "stance-foot-moved";
     case ViolationKind::JointVelocity: return "joint-velocity";
+    case ViolationKind::ReferenceTorque: return "reference-torque";
   }
   return "?";
 }
@@ -28,7 +29,7 @@ bool violation_kind_from_name(const std::string& name, ViolationKind& kind) {
                           ViolationKind::LiftOffNotAchieved, ViolationKind::FootSlip, ViolationKind::TorqueSaturation,
                           ViolationKind::JointLimit, ViolationKind::HeavyCorrection,
                           ViolationKind::StanceOffFloor, ViolationKind::StanceFootMoved,
-                          ViolationKind::JointVelocity})
+                          ViolationKind::JointVelocity, ViolationKind::ReferenceTorque})
     if (name == violation_name(k)) {
       kind = k;
       return true;
@@ -49,7 +50,7 @@ void explain_fall(std::vector<Violation>& violations, double window_s) {
   const double t1 = fall->start_s, t0 = t1 - window_s;
   std::string why;
   for (ViolationKind kind : {ViolationKind::CopNearEdge, ViolationKind::FootSlip, ViolationKind::StanceFootMoved,
-                             ViolationKind::TorqueSaturation, ViolationKind::JointLimit}) {
+                             ViolationKind::TorqueSaturation, ViolationKind::ReferenceTorque, ViolationKind::JointLimit}) {
     double overlap = 0;
     const Violation* worst = nullptr;
     for (const Violation& v : violations) {

@@ -29,6 +29,9 @@ struct TorqueDemand {
   double max_time_s = 0;
   int frames_over = 0;         ///< frames where a judged joint is above its effort limit
   int frames = 0;              ///< frames judged: all but the first and last
+  /// Per frame (T): the largest ratio over the judged joints and its joint (0 and -1 at the ends).
+  std::vector<double> frame_max_ratio;
+  std::vector<int> frame_max_joint;
 };
 
 /// Per movable joint: whether a sole link hangs below it.

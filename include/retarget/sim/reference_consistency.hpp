@@ -13,6 +13,7 @@
 namespace rt {
 
 class ReferenceSignal;
+class RobotData;
 class RobotModel;
 
 /// `stance-off-floor` violations: spans of frames where a foot labelled in contact has its sole
@@ -28,5 +29,11 @@ std::vector<Violation> stance_off_floor(const ReferenceSignal& signal, double le
 /// own motion). A robot that tracks such a reference only by lagging behind it performs
 /// another motion, and one retimed too fast (a walk played 3x) asks for speeds no motor has.
 std::vector<Violation> reference_joint_speed(const RobotModel& model, const ReferenceSignal& signal, double lead_s);
+
+/// `reference-torque` violations: spans of frames where the reference asks a joint with no foot
+/// below it (waist, arms, head) for more torque than its effort limit (model/torque_demand.hpp:
+/// inverse dynamics of the frames), from the clip's start on. They do not fail the check by
+/// themselves: how much the saturated joint's lag matters is what the simulation finds out.
+std::vector<Violation> reference_torque_demand(const RobotModel& model, RobotData& data, const ReferenceSignal& signal, double lead_s);
 
 }  // namespace rt

@@ -28,6 +28,10 @@ enum class ViolationKind {
   /// The reference moves a joint faster than its URDF velocity limit (reference_consistency.hpp):
   /// the simulated motors have no speed limit, a real one cannot follow.
   JointVelocity,
+  /// The reference asks a joint with no foot below it for more torque than its effort limit
+  /// (reference_consistency.hpp, inverse dynamics of its frames): that joint saturates whatever the
+  /// controller does. Reported, and named in a fall's cause; the simulation decides the verdict.
+  ReferenceTorque,
 };
 
 /// "fall", "cop-near-edge", ... (stable names used in report.json and summaries).
@@ -48,7 +52,8 @@ struct Violation {
 };
 
 /// What led to a fall: appends to the detail of the fall in `violations` the warnings (COP at the
-/// support's edge, foot slip, torque saturation, joint limits) that overlap the `window_s` before
+/// support's edge, foot slip, a stance foot moved, torque saturation, the reference's own torque
+/// demand, joint limits) that overlap the `window_s` before
 /// it, each with its time within the window and its worst instance, e.g. "; in the 0.5 s before:
 /// COP at the support's edge 0.42 s; foot-slip 0.10 s (right foot sole slides at 0.875 m/s)".
 /// A fall has one cause the summary can name, instead of the last symptom (the trunk's tilt).

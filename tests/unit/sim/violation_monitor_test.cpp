@@ -21,6 +21,7 @@
 #include "retarget/model/robot_data.hpp"
 #include "retarget/model/robot_model.hpp"
 #include "retarget/reference/robot_mapping.hpp"
+#include "retarget/model/torque_demand.hpp"
 #include "retarget/sim/reference_consistency.hpp"
 #include "retarget/sim/reference_signal.hpp"
 #include "support/test_paths.hpp"
@@ -244,6 +245,44 @@ TEST(ReferenceJointSpeed, AReferenceFasterThanAJointsVelocityLimitFailsTheCheck)
   EXPECT_NEAR(fast[0].magnitude, 1.5, 1e-6);
   EXPECT_NE(fast[0].detail.find(joint), std::string::npos) << fast[0].detail;
   EXPECT_TRUE(reference_moving_joint_at(0.9).empty());
+}
+
+// A standing humanoid25 reference (100 fps) that swings one arm joint (the first joint with no foot
+// below it) by `amplitude` rad at `omega` rad/s from 0.2 s to 0.4 s: the reference's own torque
+// demand of that joint.
+std::vector<Violation> reference_swinging_arm(double amplitude, double omega, std::string* name = nullptr) {
+  const auto model = RobotModel::load(test::source_path("robots/humanoid25"));
+  const std::vector<bool> foot = joints_carrying_a_foot(*model);
+  int arm = -1;
+  for (int i = 0; i < model->nu() && arm < 0; ++i)
+    if (!foot[static_cast<std::size_t>(i)] && model->effort_limits()[i] > 0) arm = i;
+  EXPECT_GE(arm, 0);
+  const std::string joint = model->joints()[static_cast<std::size_t>(model->movable_joints()[static_cast<std::size_t>(arm)])].name;
+  if (name) *name = joint;
+  Reference ref = constant_reference(*model, model->standing_q(), 0.6, 100.0);
+  const auto row = std::find(ref.joint_names.begin(), ref.joint_names.end(), joint) - ref.joint_names.begin();
+  for (int k = 0; k < ref.num_frames(); ++k) {
+    const double t = k / 100.0;
+    if (t > 0.2 && t < 0.4) ref.joint_pos(row, k) += amplitude * std::pow(std::sin(M_PI * (t - 0.2) / 0.2), 2) * std::sin(omega * (t - 0.2));
+  }
+  RobotData data(*model);
+  return reference_torque_demand(*model, data, ReferenceSignal(*model, data, ref), 0.0);
+}
+
+TEST(ReferenceTorqueDemand, AnArmSwungFasterThanItsMotorCanIsReportedNotFailed) {
+  std::string joint;
+  const std::vector<Violation> fast = reference_swinging_arm(0.3, 60.0, &joint);
+  ASSERT_FALSE(fast.empty());
+  for (const Violation& v : fast) {
+    EXPECT_EQ(v.kind, ViolationKind::ReferenceTorque);
+    EXPECT_GT(v.start_s, 0.19);
+    EXPECT_LT(v.end_s, 0.41);
+    EXPECT_GT(v.magnitude, 1.0);
+    EXPECT_NE(v.detail.find(joint), std::string::npos) << v.detail;
+  }
+  EXPECT_FALSE(violation_fails_check(ViolationKind::ReferenceTorque));
+  // The same swing, slow: within the motor's torque.
+  EXPECT_TRUE(reference_swinging_arm(0.3, 3.0).empty());
 }
 
 }  // namespace
