@@ -222,8 +222,12 @@ QualityMetrics compute_quality(const RobotModel& model, RobotData& data, const C
   const int T = motion.num_frames(), nu = model.nu();
   if (T == 0) return {};
   const Reference& ref = clip.reference;
-  QualityMetrics m = ref.num_frames() > 0 ? foot_metrics(model, data, reference_q(model, ref), ref.fps, ref.contact)
-                                          : foot_metrics(model, data, motion.q, motion.fps, clip.contacts.in_contact);
+  // The exported frames (the source-rate motion without a resample pass): feet, floor, ZMP and
+  // torque demand are measured on them.
+  const bool exported = ref.num_frames() > 0;
+  const MatX q_out = exported ? reference_q(model, ref) : motion.q;
+  const double fps_out = exported ? ref.fps : motion.fps;
+  QualityMetrics m = foot_metrics(model, data, q_out, fps_out, exported ? ref.contact : clip.contacts.in_contact);
 
   // Landmark errors at the robot motion's rate (the source's; the export rate after com-plan), on
   // the source's frames (a standing lead-in or lead-out has no source sample: its targets are the
@@ -272,9 +276,7 @@ QualityMetrics compute_quality(const RobotModel& model, RobotData& data, const C
         if (ratio > 1.0) ++m.velocity_limit_violations;
       }
     }
-  // Torque demand on the exported frames (the source-rate motion without a resample pass).
-  const TorqueDemand td = ref.num_frames() > 0 ? torque_demand(model, data, reference_q(model, ref), ref.fps)
-                                               : torque_demand(model, data, motion.q, motion.fps);
+  const TorqueDemand td = torque_demand(model, data, q_out, fps_out);
   m.torque_demand_max_ratio = td.max_ratio;
   m.torque_demand_time_s = td.max_time_s;
   m.torque_demand_frames_over = td.frames_over;

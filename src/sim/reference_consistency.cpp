@@ -10,6 +10,17 @@
 
 namespace rt {
 
+namespace {
+
+// The first frame a reference-side check judges: the standing lead-in of `lead_s` is the check's
+// own motion, not the reference's, so from the clip's second frame on (the first one's central
+// difference reaches into the lead-in); from frame 0 without a lead-in.
+int first_judged_frame(const ReferenceSignal& signal, double lead_s) {
+  return lead_s > 0 ? static_cast<int>(std::lround(lead_s * signal.fps())) + 1 : 0;
+}
+
+}  // namespace
+
 std::vector<Violation> stance_off_floor(const ReferenceSignal& signal, double lead_s, double tolerance_m) {
   const auto& soles = signal.soles_W();
   const auto& contacts = signal.contacts();
@@ -49,10 +60,7 @@ std::vector<Violation> reference_joint_speed(const RobotModel& model, const Refe
   ViolationTracker tracker(ViolationKind::JointVelocity, "ratio", 0.0);
   const VecX& vmax = model.velocity_limits();
   const int nu = model.nu(), T = signal.num_frames();
-  // The standing lead-in is the check's own motion, not the reference's: judged from the clip's
-  // second frame on (the first one's central difference reaches into the lead-in).
-  const int first = lead_s > 0 ? static_cast<int>(std::lround(lead_s * signal.fps())) + 1 : 0;
-  for (int k = first; k < T; ++k) {
+  for (int k = first_judged_frame(signal, lead_s); k < T; ++k) {
     const double t = k / signal.fps();
     const VecX v = signal.at(t, TrunkTransform{}).v.tail(nu);
     double worst = 0;
@@ -80,8 +88,7 @@ std::vector<Violation> reference_torque_demand(const RobotModel& model, RobotDat
   if (d.frames == 0) return out;
   ViolationTracker tracker(ViolationKind::ReferenceTorque, "ratio", 0.0);
   const int T = signal.num_frames();
-  const int first = static_cast<int>(std::lround(lead_s * signal.fps())) + (lead_s > 0 ? 1 : 0);  // as reference_joint_speed
-  for (int k = std::max(first, 1); k + 1 < T; ++k) {
+  for (int k = std::max(first_judged_frame(signal, lead_s), 1); k + 1 < T; ++k) {  // the ends have no demand
     const double ratio = d.frame_max_ratio[static_cast<std::size_t>(k)];
     const int joint = d.frame_max_joint[static_cast<std::size_t>(k)];
     const bool over = ratio > 1 && joint >= 0;
