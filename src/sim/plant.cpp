@@ -19,9 +19,14 @@ Plant::Plant(const RobotModel& model, const PlantOptions& options) : model_(&mod
       owned_->body_mass[b] *= options.mass_scale;
       for (int k = 0; k < 3; ++k) owned_->body_inertia[3 * b + k] *= options.mass_scale;
     }
-    // MuJoCo combines two geoms' sliding friction by their maximum: set it on every geom.
-    if (options.floor_friction > 0)
+    // The generated model collides by explicit floor pairs only (collision="predefined"), whose
+    // parameters do not come from their geoms: the pairs' two tangential coefficients are what
+    // the contacts use. The geoms get it too, so that the copy reads the same either way.
+    if (options.floor_friction > 0) {
+      for (int p = 0; p < owned_->npair; ++p)
+        for (int k = 0; k < 2; ++k) owned_->pair_friction[5 * p + k] = options.floor_friction;
       for (int g = 0; g < owned_->ngeom; ++g) owned_->geom_friction[3 * g] = options.floor_friction;
+    }
     // Derived constants (subtree masses, ...) of the changed model.
     mjData* scratch = mj_makeData(owned_);
     if (!scratch) throw InternalError("Plant: mj_makeData failed");
