@@ -109,7 +109,7 @@ struct LegReach {
   double length_m = 0;
 };
 
-std::array<LegReach, 2> leg_reaches(const RobotModel& model, RobotData& data, const std::array<Mat3, 2>& R_L_sole) {
+std::array<LegReach, 2> leg_reaches(const RobotModel& model, RobotData& data, const std::array<Mat3, 2>& R_L_sole, double max_extension) {
   std::array<LegReach, 2> legs;
   VecX q_neutral = model.standing_q();
   q_neutral.tail(model.nu()).setZero();
@@ -131,7 +131,7 @@ std::array<LegReach, 2> leg_reaches(const RobotModel& model, RobotData& data, co
     const Vec3 p_ankle = link_pose(model, data, ankle).translation();
     legs[k].hip_link = hip;
     legs[k].ankle_S = R_L_sole[k].transpose() * (X_sole.inverse() * p_ankle - sole.p_L_center);
-    legs[k].length_m = (link_pose(model, data, hip).translation() - p_ankle).norm();
+    legs[k].length_m = (link_pose(model, data, hip).translation() - p_ankle).norm() * max_extension;
   }
   return legs;
 }
@@ -450,6 +450,8 @@ RefinePass::RefinePass() {
              "[m/s^2] largest downward acceleration of the root height while a foot is in stance (0: no limit)", {0, 1000, "m/s^2"});
   table_.add("root_max_drop", options_.root_max_drop_m,
              "[m] with the root limits: how far below its smoothed height the legs' reach may put the root", {0, 1, "m"});
+  table_.add("max_leg_extension", options_.max_leg_extension,
+             "stance legs' hip-ankle distance at most this fraction of their straight length (< 1: the root bound lowers the root to bend the knees)", {0.5, 1, ""});
   table_.add("robust_threshold", options_.robust_threshold, "[sigma] samples this far from the smoothed curve are weighted down (0: plain)");
   table_.add("velocity_margin", options_.velocity_margin, "fraction of each joint speed limit kept free");
   table_.add("max_joint_speed", options_.max_joint_speed, "[rad/s] cap on every joint's speed below its URDF limit (0: none)");
@@ -529,7 +531,7 @@ void RefinePass::run(Clip& clip, PassContext& ctx) {
   // Who absorbs a foot's correction: the legs; the root and the rest of the body (whose landmarks
   // the smoothed motion tracks) are 30-100 times stiffer.
   constexpr double kRootHeightStiffness = 100;
-  const bool root_limits = o.root_rise_accel > 0 || o.root_fall_accel > 0;
+  const bool root_limits = o.root_rise_accel > 0 || o.root_fall_accel > 0 || o.max_leg_extension < 1;
   VecX stiffness = refine::legs_first_stiffness(model);
   // The root height was set under the legs' reach (lower_root_to_reach): the legs bend to it
   // rather than the root rising back into the dips it was smoothed out of (10 times let them
@@ -746,7 +748,7 @@ void RefinePass::run(Clip& clip, PassContext& ctx) {
   // moves it): without that the bound asked the G1 Bandai walk for 3 cm more crouch than needed.
   constexpr double kReachShift = 0.06;
   const std::array<TurnRange, 2> turns = turn_ranges(model, data, R_L_sole);
-  const std::array<LegReach, 2> legs = root_limits ? leg_reaches(model, data, R_L_sole) : std::array<LegReach, 2>{};
+  const std::array<LegReach, 2> legs = root_limits ? leg_reaches(model, data, R_L_sole, o.max_leg_extension) : std::array<LegReach, 2>{};
   // Wall time per stage [ms], all rounds (the -v statistics).
   double ms_smooth = 0, ms_project = 0, ms_metric = 0, ms_correct = 0, ms_fallback = 0;
   LapTimer timer;

@@ -22,7 +22,10 @@
 ///    smoothed height), with its vertical acceleration limited in stance
 ///    (refine/signal_smoother.hpp, smooth_under_ceiling), and the projection and the correction
 ///    hold it 100 times stiffer: the IK's root dips at each long double support (1-2 g up at the
-///    lift-off) are spread out and the knees bend instead.
+///    lift-off) are spread out and the knees bend instead. Opt-in (`max_leg_extension` < 1, also
+///    without the acceleration limits): the same bound with each leg's reach cut to that fraction
+///    of its straight length, so that the stance knees stay bent: on straight legs (G1's walks hold
+///    0.98-1.01) a sole target the leg cannot quite reach moves the root, which lurches at every step.
 ///    Turns beyond the legs (`hold_turns`): where a performer turns on a planted foot further than
 ///    the robot's hip yaw allows (a pirouette), the smoothed root is turned back about the stance
 ///    anchor by the excess (the sole's heading relative to the root, unwrapped over the stance,
@@ -59,6 +62,9 @@ struct RefineOptions {
   double root_rise_accel = 0;        ///< [m/s²] largest upward acceleration of the root height in stance (0: none)
   double root_fall_accel = 0;        ///< [m/s²] largest downward acceleration of the root height in stance (0: none)
   double root_max_drop_m = 0.04;     ///< [m] with those limits: the deepest the legs' reach may put the root below its smoothed height
+  /// Largest hip-ankle distance of a stance leg as a fraction of its straight length (< 1 turns the
+  /// root bound of step 4 on, with root_max_drop as its depth; README "Bent knees").
+  double max_leg_extension = 1.0;
   double robust_threshold = 3.0;     ///< [σ] samples this far from the smoothed curve are weighted down (Huber); 0: plain
   double velocity_margin = 0.02;     ///< fraction of each joint speed limit kept free
   double max_joint_speed = 0;        ///< [rad/s] optional cap on every joint's speed below its URDF limit (0: none)

@@ -6,6 +6,8 @@
 #include "retarget/core/error.hpp"
 #include "retarget/core/strings.hpp"
 #include "retarget/model/collision_hull.hpp"
+#include "retarget/model/kinematics.hpp"
+#include "retarget/model/robot_data.hpp"
 
 namespace rt {
 namespace {
@@ -124,6 +126,61 @@ TEST(RefinePass, RootHeightLimitsSpreadTheDoubleSupportDips) {
   EXPECT_GT(limited.refine->get("root-height-bound-rows", -1), 0);
   test::expect_stance_held(limited.quality);
   EXPECT_EQ(limited.quality.velocity_limit_violations, 0);
+}
+
+// Each stance leg's hip-ankle distance over its straight length, largest over the stance frames of
+// `c` (the hip and ankle are the origins of the leg's movable joints nearest the root and the sole).
+double largest_stance_extension(const RobotModel& model, const test::Converted& c) {
+  RobotData data(model);
+  std::array<int, 2> hip{{-1, -1}}, ankle{{-1, -1}};
+  for (std::size_t k = 0; k < 2; ++k)
+    for (int l = model.soles()[k].link; l >= 0 && model.links()[static_cast<std::size_t>(l)].parent_joint >= 0;) {
+      const Joint& j = model.joints()[static_cast<std::size_t>(model.links()[static_cast<std::size_t>(l)].parent_joint)];
+      if (j.qpos_index >= 0 && j.type != JointType::Floating) {
+        if (ankle[k] < 0) ankle[k] = j.child_link;
+        hip[k] = j.child_link;
+      }
+      l = j.parent_link;
+    }
+  auto distance = [&](std::size_t k) {
+    return (link_pose(model, data, hip[k]).translation() - link_pose(model, data, ankle[k]).translation()).norm();
+  };
+  VecX q0 = model.standing_q();
+  q0.tail(model.nu()).setZero();
+  update_kinematics(model, data, q0);
+  const std::array<double, 2> straight{{distance(0), distance(1)}};
+  double largest = 0;
+  const MatX& q = c.clip.motion.q;
+  for (Eigen::Index f = 0; f < q.cols(); ++f) {
+    update_kinematics(model, data, q.col(f));
+    for (std::size_t k = 0; k < 2; ++k)
+      if (c.clip.contacts.in_contact[k][static_cast<std::size_t>(f)]) largest = std::max(largest, distance(k) / straight[k]);
+  }
+  return largest;
+}
+
+// Bent knees (opt-in): the slow-steps example stands on nearly straight legs; with
+// max_leg_extension the root is lowered until every stance leg is within that fraction of its
+// length, and the stances, swings and speed limits still hold.
+TEST(RefinePass, MaxLegExtensionBendsTheStanceKnees) {
+  const RobotModel& model = robot("humanoid25");
+  const std::string clip = test::source_path("examples/clips/slow_steps.bvh");
+  const std::string passes = "scale,label-contacts,ik,flat-contact,refine";
+  const test::Converted plain = test::convert(model, clip, 0, passes);
+  const test::Converted bent = test::convert(model, clip, 0, passes + "{max_leg_extension=0.9,root_max_drop=0.1}");
+  const double straight = largest_stance_extension(model, plain), limited = largest_stance_extension(model, bent);
+  EXPECT_GT(straight, 0.97);
+  // The bound is on the smoothed motion and takes the root as free to move 6 cm horizontally
+  // towards the soles (as the projection moves it, but not always as far): 0.915 here.
+  EXPECT_LT(limited, 0.9 + 0.02);
+  EXPECT_LT(limited, straight - 0.05);
+  EXPECT_GT(bent.refine->get("root-height-bound-rows", -1), 0);
+  test::expect_stance_held(bent.quality);
+  EXPECT_EQ(bent.quality.velocity_limit_violations, 0);
+  EXPECT_EQ(bent.quality.swing_frames_low, 0);
+  // Negative control: at 1 (the default) nothing is bounded.
+  EXPECT_EQ(plain.refine->get("root-height-bound-rows", -1), 0);
+  std::printf("[ measured ] largest stance extension %.3f -> %.3f\n", straight, limited);
 }
 
 // A performer who turns on planted feet further than the robot's hips can (a pirouette): the whole
