@@ -271,9 +271,9 @@ ReportInfo make_report_info(const std::string& robot, const std::string& referen
           ? format("paper controller, re-planning N %d x %g ms, h_max %g, w %g", o.replan.horizon, o.replan.period_s * 1e3,
                    o.replan.h_max, o.replan.w)
           : format("walking controller, DCM gain %g /s, plan margin %g mm, COM-shift bound %g mm, foothold box %g mm, "
-                   "foot kp %g, kd %g",
+                   "foot kp %g, kd %g, friction margin %g",
                    o.walking.dcm_gain, o.walking.plan.margin_m * 1e3, o.walking.plan.max_shift_m * 1e3,
-                   o.walking.foothold_box_m * 1e3, o.walking.foot_kp, o.walking.foot_kd);
+                   o.walking.foothold_box_m * 1e3, o.walking.foot_kp, o.walking.foot_kd, o.walking.friction_margin);
   info.options_summary =
       format("%s; control %g ms, kp %g, kd %g; COP margin %g mm, contact tolerance %g s (at most %g of a phase), slip %g m/s, settle %g s%s",
              controller.c_str(), o.control_period_s * 1e3, o.tracking.kp, o.tracking.kd, o.cop_margin_m * 1e3,

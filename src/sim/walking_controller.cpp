@@ -55,6 +55,7 @@ TrackingOptions walking_tracking_options(const DynamicsCheckOptions& o) {
   t.weights.vertical_force = o.walking.vertical_force_weight;
   t.foot_kp = o.walking.foot_kp;
   t.foot_kd = o.walking.foot_kd;
+  t.contact.friction_margin = o.walking.friction_margin;
   return t;
 }
 

@@ -54,6 +54,16 @@ struct WalkingControllerOptions {
   /// soles, here, in the re-planner and in the whole-clip plan (`plan.ankle_reach`).
   bool ankle_reach = true;
   double force_ramp_s = 0.06;       ///< [s] normal-force ramp at touchdown and lift-off
+  /// The commanded contact wrenches stay inside the friction pyramid (tracking_controller.hpp)
+  /// scaled by this: the controller does not know the floor, and robot.yaml's friction (1.0 on
+  /// every robot here) is the simulation's nominal floor, not a bound a controller may count on. At 1
+  /// the pyramid (|f_x|, |f_y| ≤ 0.71 f_z) reaches beyond the cone of a 0.7 floor on its diagonals,
+  /// and its yaw bound beyond what the soles' corners hold there: on such a floor 3 of the 16 shared
+  /// gait references passed (G1's stance feet slid at 1.6 m/s while spinning). Over those 16, two
+  /// variants of them (refine's tilt ramp and a lowered root) and four conditions (nominal, masses
+  /// ×0.9 and ×1.1, friction 0.7; 192 runs): 1.0 passes 75 (65 of the 144 on the nominal floor),
+  /// 0.7 passes 89 (65), 0.5 passes 88 (62).
+  double friction_margin = 0.7;
   /// [s] a swing foot that lands this close to its reference touchdown becomes a stance foot.
   double early_touchdown_s = 0.15;
   double trunk_blend_s = 0.25;      ///< [s] trunk-mapping changes are blended in over this time
