@@ -10,6 +10,7 @@
 #include "retarget/core/strings.hpp"
 #include "retarget/ik/landmark_ik.hpp"
 #include "retarget/model/kinematics.hpp"
+#include "retarget/model/leg_ends.hpp"
 #include "retarget/model/robot_model.hpp"
 #include "retarget/passes/ground.hpp"
 #include "retarget/passes/ik_pass.hpp"
@@ -99,10 +100,9 @@ MatX smooth_motion(const RobotModel& model, const MatX& q, double fps, const Ref
   return out;
 }
 
-// A leg as two points the root-height bound needs: its hip (the origin of the movable joint
-// nearest the root, which moves with the root) and its ankle (that of the movable joint nearest
-// the foot, fixed in the sole frame), and the longest distance between them (the leg straight,
-// as at the neutral pose of every robot here).
+// A leg as two points the root-height bound needs: its hip, which moves with the root, and its
+// ankle, fixed in the sole frame (leg_ends.hpp), and the longest distance the bound allows between
+// them: `max_extension` times the straight leg's (as at the neutral pose of every robot here).
 struct LegReach {
   int hip_link = -1;           ///< child link of the hip joint (its origin is the joint's)
   Vec3 ankle_S = Vec3::Zero(); ///< [m] ankle point in the sole frame, from the sole centre
@@ -111,21 +111,14 @@ struct LegReach {
 
 std::array<LegReach, 2> leg_reaches(const RobotModel& model, RobotData& data, const std::array<Mat3, 2>& R_L_sole, double max_extension) {
   std::array<LegReach, 2> legs;
+  const std::array<LegEnds, 2> ends = leg_ends(model);
   VecX q_neutral = model.standing_q();
   q_neutral.tail(model.nu()).setZero();
   update_kinematics(model, data, q_neutral);
   for (int foot = 0; foot < 2; ++foot) {
     const auto k = static_cast<std::size_t>(foot);
     const Sole& sole = model.soles()[k];
-    int hip = -1, ankle = -1;
-    for (int l = sole.link; l >= 0 && model.links()[static_cast<std::size_t>(l)].parent_joint >= 0;) {
-      const Joint& j = model.joints()[static_cast<std::size_t>(model.links()[static_cast<std::size_t>(l)].parent_joint)];
-      if (j.qpos_index >= 0 && j.type != JointType::Floating) {
-        if (ankle < 0) ankle = j.child_link;
-        hip = j.child_link;
-      }
-      l = j.parent_link;
-    }
+    const int hip = ends[k].hip_link, ankle = ends[k].ankle_link;
     if (hip < 0 || hip == ankle) continue;  // no leg to bend: no bound from this foot
     const Iso3 X_sole = link_pose(model, data, sole.link);
     const Vec3 p_ankle = link_pose(model, data, ankle).translation();

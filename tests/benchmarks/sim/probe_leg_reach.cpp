@@ -12,6 +12,7 @@
 
 #include "retarget/jobs/validate_job.hpp"
 #include "retarget/model/kinematics.hpp"
+#include "retarget/model/leg_ends.hpp"
 #include "retarget/model/robot_data.hpp"
 #include "retarget/model/robot_model.hpp"
 #include "retarget/reference/robot_mapping.hpp"
@@ -27,29 +28,20 @@ int main(int argc, char** argv) {
     const Reference ref = read_reference_for(*model, argv[2], argc > 3 ? std::atof(argv[3]) : 0);
     RobotData data(*model);
     const MatX q = ReferenceRobotMap(*model, ref, "reference").q_all(ref);
-    std::array<int, 2> hip{{-1, -1}}, ankle{{-1, -1}};
-    for (std::size_t k = 0; k < 2; ++k)
-      for (int l = model->soles()[k].link; l >= 0 && model->links()[static_cast<std::size_t>(l)].parent_joint >= 0;) {
-        const Joint& j = model->joints()[static_cast<std::size_t>(model->links()[static_cast<std::size_t>(l)].parent_joint)];
-        if (j.qpos_index >= 0 && j.type != JointType::Floating) {
-          if (ankle[k] < 0) ankle[k] = j.child_link;
-          hip[k] = j.child_link;
-        }
-        l = j.parent_link;
-      }
+    const std::array<LegEnds, 2> legs = leg_ends(*model);
     VecX q0 = model->standing_q();
     q0.tail(model->nu()).setZero();
     update_kinematics(*model, data, q0);
     std::array<double, 2> length{};
     for (std::size_t k = 0; k < 2; ++k)
-      length[k] = (link_pose(*model, data, hip[k]).translation() - link_pose(*model, data, ankle[k]).translation()).norm();
+      length[k] = (link_pose(*model, data, legs[k].hip_link).translation() - link_pose(*model, data, legs[k].ankle_link).translation()).norm();
     std::printf("frame  t[s]  L R   left_reach right_reach  root_acc_xy[m/s2]\n");
     const Eigen::Index T = q.cols();
     for (Eigen::Index f = 0; f < T; ++f) {
       update_kinematics(*model, data, q.col(f));
       std::array<double, 2> r{};
       for (std::size_t k = 0; k < 2; ++k)
-        r[k] = (link_pose(*model, data, hip[k]).translation() - link_pose(*model, data, ankle[k]).translation()).norm() / length[k];
+        r[k] = (link_pose(*model, data, legs[k].hip_link).translation() - link_pose(*model, data, legs[k].ankle_link).translation()).norm() / length[k];
       double acc = 0;
       if (f > 0 && f + 1 < T) acc = (q.col(f + 1).head<2>() - 2 * q.col(f).head<2>() + q.col(f - 1).head<2>()).norm() * ref.fps * ref.fps;
       const auto fs = static_cast<std::size_t>(f);

@@ -7,6 +7,7 @@
 #include "retarget/core/strings.hpp"
 #include "retarget/model/collision_hull.hpp"
 #include "retarget/model/kinematics.hpp"
+#include "retarget/model/leg_ends.hpp"
 #include "retarget/model/robot_data.hpp"
 
 namespace rt {
@@ -129,21 +130,12 @@ TEST(RefinePass, RootHeightLimitsSpreadTheDoubleSupportDips) {
 }
 
 // Each stance leg's hip-ankle distance over its straight length, largest over the stance frames of
-// `c` (the hip and ankle are the origins of the leg's movable joints nearest the root and the sole).
+// `c` (leg_ends.hpp).
 double largest_stance_extension(const RobotModel& model, const test::Converted& c) {
   RobotData data(model);
-  std::array<int, 2> hip{{-1, -1}}, ankle{{-1, -1}};
-  for (std::size_t k = 0; k < 2; ++k)
-    for (int l = model.soles()[k].link; l >= 0 && model.links()[static_cast<std::size_t>(l)].parent_joint >= 0;) {
-      const Joint& j = model.joints()[static_cast<std::size_t>(model.links()[static_cast<std::size_t>(l)].parent_joint)];
-      if (j.qpos_index >= 0 && j.type != JointType::Floating) {
-        if (ankle[k] < 0) ankle[k] = j.child_link;
-        hip[k] = j.child_link;
-      }
-      l = j.parent_link;
-    }
+  const std::array<LegEnds, 2> legs = leg_ends(model);
   auto distance = [&](std::size_t k) {
-    return (link_pose(model, data, hip[k]).translation() - link_pose(model, data, ankle[k]).translation()).norm();
+    return (link_pose(model, data, legs[k].hip_link).translation() - link_pose(model, data, legs[k].ankle_link).translation()).norm();
   };
   VecX q0 = model.standing_q();
   q0.tail(model.nu()).setZero();
