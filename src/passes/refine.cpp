@@ -102,7 +102,7 @@ MatX smooth_motion(const RobotModel& model, const MatX& q, double fps, const Ref
 
 // A leg as two points the root-height bound needs: its hip, which moves with the root, and its
 // ankle, fixed in the sole frame (leg_ends.hpp), and the longest distance the bound allows between
-// them: `max_extension` times the straight leg's (as at the neutral pose of every robot here).
+// them: `max_extension` times their distance at the neutral pose (the leg straight, or nearly).
 struct LegReach {
   int hip_link = -1;           ///< child link of the hip joint (its origin is the joint's)
   Vec3 ankle_S = Vec3::Zero(); ///< [m] ankle point in the sole frame, from the sole centre

@@ -2,7 +2,8 @@
 /// A leg's two ends, from the kinematic tree: the hip is the child link of the leg's movable joint
 /// nearest the root (its origin is that joint's, and it moves with the root), the ankle that of
 /// the movable joint nearest the sole (fixed in the sole's frame). The distance between their
-/// origins is the leg's reach: straight at the neutral pose on every robot here.
+/// origins at the neutral pose (q = 0) is taken as the leg's length: the leg is straight there on
+/// G1, humanoid25 and JVRC-1, nearly so on H1 (its walks reach 1.035 of it).
 
 #include <array>
 

@@ -5,10 +5,12 @@
 // diagnosing where a reference's root is held back or jerked by a leg at the end of its reach.
 // Usage: probe_leg_reach ROBOT REFERENCE(.csv with meta | .npz) [fps for a plain CSV]
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <stdexcept>
 
 #include "retarget/jobs/validate_job.hpp"
 #include "retarget/model/kinematics.hpp"
@@ -29,6 +31,8 @@ int main(int argc, char** argv) {
     RobotData data(*model);
     const MatX q = ReferenceRobotMap(*model, ref, "reference").q_all(ref);
     const std::array<LegEnds, 2> legs = leg_ends(*model);
+    for (const LegEnds& leg : legs)
+      if (leg.hip_link < 0 || leg.hip_link == leg.ankle_link) throw std::runtime_error("a sole has no leg of two joints above it");
     VecX q0 = model->standing_q();
     q0.tail(model->nu()).setZero();
     update_kinematics(*model, data, q0);
