@@ -199,12 +199,12 @@ TEST_P(WalkingController, SyntheticWalkPassesWithOtherMassesAndFriction) {
   }
 }
 
-// Negative control of the friction option: on a floor of friction 0.05 (wet ice) no walk keeps its
+// Negative control of the friction option: on a floor of friction 0.01 (oiled ice) no walk keeps its
 // feet where it put them. (The generated model collides by explicit floor pairs, whose friction
 // the option once missed: every run then read as on the robot.yaml floor.)
 TEST_P(WalkingController, SyntheticWalkFailsOnIce) {
   DynamicsCheckOptions o = default_check_options(*model_);
-  o.floor_friction = 0.05;
+  o.floor_friction = 0.01;
   const DynamicsCheckResult r = run_dynamics_check(*model_, walk(), o);
   EXPECT_FALSE(r.passed);
   EXPECT_TRUE(fails_with(r, {ViolationKind::Fall, ViolationKind::StanceFootMoved})) << failing(r);
