@@ -303,13 +303,15 @@ std::string format_check_summary(const DynamicsCheckResult& r, const ReportInfo&
               r.trunk_mapping_updates == 1 ? "" : "s", r.replans.size(), r.replans.size() == 1 ? "" : "s");
   if (r.walking.used) {
     const DynamicsCheckResult::WalkingStats& w = r.walking;
-    s += format("  balance     plan moved the COM by up to %.1f mm (RMS %.1f mm, at %.2f s)%s; %d receding re-plan%s, "
+    s += format("  balance     plan moved the COM by up to %.1f mm (RMS %.1f mm, at %.2f s)%s; %d receding re-plan%s%s, "
                 "%d foothold-adjusting cycle%s (largest %.1f mm), COP clamped in %.1f %% of cycles, DCM error max %.1f mm\n",
                 w.plan_max_shift_m * 1e3, w.plan_rms_shift_m * 1e3, w.plan_max_shift_time_s,
                 w.plan_max_violation_m < 0 ? ", no plan (solver failed)"
                 : w.plan_max_violation_m > 1e-4 ? format(", its ZMP up to %.1f mm outside the shrunk support", w.plan_max_violation_m * 1e3).c_str()
                                                  : "",
-                w.replans, w.replans == 1 ? "" : "s", w.foothold_adjustments, w.foothold_adjustments == 1 ? "" : "s",
+                w.replans, w.replans == 1 ? "" : "s",
+                w.replans_rejected > 0 ? format(" (%d more left the support: not kept)", w.replans_rejected).c_str() : "",
+                w.foothold_adjustments, w.foothold_adjustments == 1 ? "" : "s",
                 w.max_foothold_change_m * 1e3, w.cop_clamped_fraction * 100, w.max_dcm_error_m * 1e3);
     if (w.lead_in_foot >= 0)
       s += format("  lead-in     the clip starts with the %s foot %.0f mm in the air: it was put down%s and lifted into "
@@ -420,6 +422,8 @@ std::string check_report_json(const DynamicsCheckResult& r, const ReportInfo& in
                              {"max_com_shift_time_s", rounded(w.plan_max_shift_time_s)},
                              {"zmp_violation_max_m", rounded(w.plan_max_violation_m)},
                              {"receding_replans", w.replans},
+                             {"receding_replans_rejected", w.replans_rejected},
+                             {"receding_replan_max_violation_m", rounded(w.replan_max_violation_m)},
                              {"foothold_adjusting_cycles", w.foothold_adjustments},
                              {"max_foothold_change_m", rounded(w.max_foothold_change_m)},
                              {"cop_clamped_fraction", rounded(w.cop_clamped_fraction)},

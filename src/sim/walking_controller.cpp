@@ -390,8 +390,14 @@ void WalkingController::maybe_replan(const ControlInput& in, const TrunkTransfor
   po.rest_at_start = false;
   po.rest_at_end = false;
   const ZmpPlan z = plan_com_zmp(samples, po);
-  // Kept only when it predicts a COP inside (or less outside) than the current plan with its error.
-  if (z.com_W.cols() != M + 1 || z.max_violation_m >= worst) return;
+  // Kept only when its COP stays inside every window sample's support: a window that leaves it is a
+  // feed-forward ZMP off the feet, worse than the clamped DCM loop alone.
+  if (z.com_W.cols() != M + 1) return;
+  if (z.max_violation_m > w.replan_max_violation_m || z.max_violation_m >= worst) {
+    ++replans_rejected_;
+    return;
+  }
+  replan_max_violation_m_ = std::max(replan_max_violation_m_, z.max_violation_m);
   // The change, back in unmapped coordinates on the plan grid. It starts a few samples before now
   // (extrapolated), so that the finite differences of the feed-forward ZMP never straddle the old
   // and the new plan.
@@ -426,6 +432,8 @@ void WalkingController::finish(DynamicsCheckResult& res) const {
   s.plan_max_shift_time_s = plan_.max_shift_time_s;
   s.plan_max_violation_m = plan_.max_violation_m;
   s.replans = replan_count_;
+  s.replans_rejected = replans_rejected_;
+  s.replan_max_violation_m = replan_max_violation_m_;
   s.foothold_adjustments = foothold_adjustments_;
   s.max_foothold_change_m = max_foothold_change_m_;
   s.cop_clamped_fraction = cycles_ ? static_cast<double>(clamped_cycles_) / cycles_ : 0;

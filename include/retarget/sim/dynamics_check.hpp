@@ -168,7 +168,9 @@ struct DynamicsCheckResult {
     /// How far the whole-clip balance plan moved the reference's COM [m] (max at max_time_s), and
     /// how far its ZMP stays outside the shrunk support at worst (−1: no plan, reference as is).
     double plan_max_shift_m = 0, plan_rms_shift_m = 0, plan_max_shift_time_s = 0, plan_max_violation_m = 0;
-    int replans = 0;                 ///< receding-horizon re-plans
+    int replans = 0;                 ///< receding-horizon re-plans kept
+    int replans_rejected = 0;        ///< re-plans solved but not kept: their COP left the support
+    double replan_max_violation_m = 0;  ///< how far the kept re-plans' ZMP leaves its support at worst
     int foothold_adjustments = 0;    ///< control cycles that moved a touchdown
     double max_foothold_change_m = 0;
     double cop_clamped_fraction = 0; ///< of control cycles: the DCM law asked for a COP outside the support

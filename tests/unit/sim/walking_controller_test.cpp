@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <array>
+#include <limits>
 #include <string>
 
 #include "retarget/core/strings.hpp"
@@ -257,6 +258,27 @@ TEST_P(WalkingController, WalkPlayedThreeTimesFasterFails) {
   EXPECT_TRUE(fails_with(r, {ViolationKind::Fall, ViolationKind::ContactNotAchieved, ViolationKind::LiftOffNotAchieved,
                              ViolationKind::HeavyCorrection, ViolationKind::StanceFootMoved, ViolationKind::JointVelocity}))
       << failing(r);
+}
+
+// The receding-horizon re-planner keeps a window only when its ZMP stays inside the predicted
+// support: the synthetic walk played twice as fast makes it fire (at 1.25x it does not), most
+// windows cannot rejoin the plan in time with the COP on the feet, and those are not kept.
+// Negative control: accepting any window less outside than the DCM loop's prediction (the rule
+// before) keeps ones whose ZMP leaves the feet.
+TEST_P(WalkingController, ReplansWhoseCopLeavesTheSupportAreNotKept) {
+  WalkOptions w;
+  w.steps = 8;
+  w.step_length_m = 0.3;
+  w.com_drop_m = 0.04;
+  const Reference fast = retime_reference(walk_reference(*model_, w), 0.5);  // twice as fast
+  DynamicsCheckOptions o = default_check_options(*model_);
+  const DynamicsCheckResult r = run_dynamics_check(*model_, fast, o);
+  EXPECT_GT(r.walking.replans_rejected, 0);
+  EXPECT_LE(r.walking.replan_max_violation_m, o.walking.replan_max_violation_m);
+  o.walking.replan_max_violation_m = std::numeric_limits<double>::infinity();
+  const DynamicsCheckResult loose = run_dynamics_check(*model_, fast, o);
+  EXPECT_GT(loose.walking.replans, r.walking.replans);
+  EXPECT_GT(loose.walking.replan_max_violation_m, 0.01);
 }
 
 // Standing on the left foot, the right one up, with the left sole moved 0.25 m out to the side by
