@@ -1,8 +1,14 @@
 #include "retarget/model/leg_ends.hpp"
 
+#include "retarget/model/kinematics.hpp"
+#include "retarget/model/robot_data.hpp"
 #include "retarget/model/robot_model.hpp"
 
 namespace rt {
+
+double hip_ankle_distance_m(const RobotModel& model, const RobotData& data, const LegEnds& leg) {
+  return (link_pose(model, data, leg.hip_link).translation() - link_pose(model, data, leg.ankle_link).translation()).norm();
+}
 
 std::array<LegEnds, 2> leg_ends(const RobotModel& model) {
   std::array<LegEnds, 2> legs;
@@ -15,6 +21,12 @@ std::array<LegEnds, 2> leg_ends(const RobotModel& model) {
       }
       l = j.parent_link;
     }
+  RobotData data(model);
+  VecX q_neutral = model.standing_q();
+  q_neutral.tail(model.nu()).setZero();
+  update_kinematics(model, data, q_neutral);
+  for (LegEnds& leg : legs)
+    if (leg.hip_link >= 0 && leg.hip_link != leg.ankle_link) leg.length_m = hip_ankle_distance_m(model, data, leg);
   return legs;
 }
 

@@ -124,7 +124,7 @@ std::array<LegReach, 2> leg_reaches(const RobotModel& model, RobotData& data, co
     const Vec3 p_ankle = link_pose(model, data, ankle).translation();
     legs[k].hip_link = hip;
     legs[k].ankle_S = R_L_sole[k].transpose() * (X_sole.inverse() * p_ankle - sole.p_L_center);
-    legs[k].length_m = (link_pose(model, data, hip).translation() - p_ankle).norm() * max_extension;
+    legs[k].length_m = ends[k].length_m * max_extension;
   }
   return legs;
 }

@@ -11,12 +11,18 @@ namespace rt {
 
 class RobotModel;
 
+class RobotData;
+
 struct LegEnds {
   int hip_link = -1;    ///< -1: the sole's link has no movable joint above it
   int ankle_link = -1;
+  double length_m = 0;  ///< [m] hip-ankle distance at the neutral pose (0 without two joints)
 };
 
 /// Left and right (the model's soles).
 std::array<LegEnds, 2> leg_ends(const RobotModel& model);
+
+/// [m] hip-ankle distance of `leg` at the pose `data` holds (update_kinematics first).
+double hip_ankle_distance_m(const RobotModel& model, const RobotData& data, const LegEnds& leg);
 
 }  // namespace rt

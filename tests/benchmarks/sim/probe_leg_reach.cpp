@@ -33,19 +33,13 @@ int main(int argc, char** argv) {
     const std::array<LegEnds, 2> legs = leg_ends(*model);
     for (const LegEnds& leg : legs)
       if (leg.hip_link < 0 || leg.hip_link == leg.ankle_link) throw std::runtime_error("a sole has no leg of two joints above it");
-    VecX q0 = model->standing_q();
-    q0.tail(model->nu()).setZero();
-    update_kinematics(*model, data, q0);
-    std::array<double, 2> length{};
-    for (std::size_t k = 0; k < 2; ++k)
-      length[k] = (link_pose(*model, data, legs[k].hip_link).translation() - link_pose(*model, data, legs[k].ankle_link).translation()).norm();
     std::printf("frame  t[s]  L R   left_reach right_reach  root_acc_xy[m/s2]\n");
     const Eigen::Index T = q.cols();
     for (Eigen::Index f = 0; f < T; ++f) {
       update_kinematics(*model, data, q.col(f));
       std::array<double, 2> r{};
       for (std::size_t k = 0; k < 2; ++k)
-        r[k] = (link_pose(*model, data, legs[k].hip_link).translation() - link_pose(*model, data, legs[k].ankle_link).translation()).norm() / length[k];
+        r[k] = hip_ankle_distance_m(*model, data, legs[k]) / legs[k].length_m;
       double acc = 0;
       if (f > 0 && f + 1 < T) acc = (q.col(f + 1).head<2>() - 2 * q.col(f).head<2>() + q.col(f - 1).head<2>()).norm() * ref.fps * ref.fps;
       const auto fs = static_cast<std::size_t>(f);

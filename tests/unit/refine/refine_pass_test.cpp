@@ -134,19 +134,12 @@ TEST(RefinePass, RootHeightLimitsSpreadTheDoubleSupportDips) {
 double largest_stance_extension(const RobotModel& model, const test::Converted& c) {
   RobotData data(model);
   const std::array<LegEnds, 2> legs = leg_ends(model);
-  auto distance = [&](std::size_t k) {
-    return (link_pose(model, data, legs[k].hip_link).translation() - link_pose(model, data, legs[k].ankle_link).translation()).norm();
-  };
-  VecX q0 = model.standing_q();
-  q0.tail(model.nu()).setZero();
-  update_kinematics(model, data, q0);
-  const std::array<double, 2> straight{{distance(0), distance(1)}};
   double largest = 0;
   const MatX& q = c.clip.motion.q;
   for (Eigen::Index f = 0; f < q.cols(); ++f) {
     update_kinematics(model, data, q.col(f));
     for (std::size_t k = 0; k < 2; ++k)
-      if (c.clip.contacts.in_contact[k][static_cast<std::size_t>(f)]) largest = std::max(largest, distance(k) / straight[k]);
+      if (c.clip.contacts.in_contact[k][static_cast<std::size_t>(f)]) largest = std::max(largest, hip_ankle_distance_m(model, data, legs[k]) / legs[k].length_m);
   }
   return largest;
 }
